@@ -1,0 +1,97 @@
+#pragma once
+// GMC: grid-based motion clustering (Zhang, Hasith, Wang). Pure core: no I/O.
+// See doc/gmc.md for how each part maps onto the paper's equations and algorithms.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gmc/gmc/types.h"
+
+namespace gmc {
+
+/// One feature correspondence between the reference and the current frame.
+struct MotionMatch {
+  Eigen::Vector2f pixel;      ///< keypoint in the current image (px)
+  Eigen::Vector3d point_ref;  ///< 3-D point in the reference camera frame (m)
+  Eigen::Vector3d point_cur;  ///< 3-D point in the current camera frame (m)
+};
+
+enum class MotionLabel : std::uint8_t { Static = 0, Dynamic = 1, Undecided = 2 };
+
+/// Parameters, named after the paper's symbols; INI section [GMC].
+struct GmcParams {
+  bool enabled = true;         ///< false: every valid match is labelled Static
+  int grid_cols = 20;          ///< G_x
+  int grid_rows = 15;          ///< G_y
+  double e_int_x = 0.5;        ///< motion-pattern interval along x (normalised units)
+  double e_int_z = 0.5;        ///< motion-pattern interval along z (normalised units)
+  double alpha = 1.0;          ///< residual scale of Eq. (3)
+  double p_min = 0.6;          ///< quadtree: split while winner < p_min * n_i ...
+  int n_min = 8;               ///< ... and n_i > n_min
+  int min_cluster_size = 10;   ///< clusters with fewer features are dropped (Alg. 2)
+  // (the implementation may add documented fields; keep names after the paper)
+
+  template <class V>
+  void visit(V& v) {
+    v("enabled", enabled, "false = label every valid match static (GMC off)");
+    v("grid_cols", grid_cols, 1, 200, "G_x, grid cells across the image");
+    v("grid_rows", grid_rows, 1, 200, "G_y, grid cells down the image");
+    v("e_int_x", e_int_x, 1e-6, 1e3, "motion-pattern interval along x");
+    v("e_int_z", e_int_z, 1e-6, 1e3, "motion-pattern interval along z");
+    v("alpha", alpha, 1e-6, 1e6, "residual scale of Eq. (3)");
+    v("p_min", p_min, 0.0, 1.0, "quadtree split while the winning pattern holds < p_min*n_i");
+    v("n_min", n_min, 1, 100000, "quadtree split only while n_i > n_min");
+    v("min_cluster_size", min_cluster_size, 1, 100000, "clusters with fewer features are dropped");
+  }
+};
+
+/// A leaf cell of the (quadtree-refined) grid.
+struct GmcCell {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< pixel bounds [x0,x1) x [y0,y1)
+  int depth = 0;                       ///< quadtree level, 0 = grid cell
+  int num_points = 0;                  ///< n_i
+  int pattern_x = 0, pattern_z = 0;    ///< winning motion pattern (0,0 = static)
+  int winner_count = 0, second_count = 0;
+  int cluster = -1;                    ///< index into GmcResult::clusters, -1 = none
+};
+
+/// A merged motion cluster.
+struct GmcCluster {
+  int pattern_x = 0, pattern_z = 0;
+  int support = 0;                     ///< matches in the cluster
+  Eigen::Vector3d mean_residual = Eigen::Vector3d::Zero();  ///< mean normalised residual
+  Eigen::Vector3d mean_motion = Eigen::Vector3d::Zero();    ///< mean 3-D residual (m)
+  bool is_static = false;
+};
+
+struct GmcResult {
+  std::vector<MotionLabel> labels;     ///< one per input match
+  std::vector<GmcCell> cells;          ///< leaf cells
+  std::vector<GmcCluster> clusters;
+  int static_cluster = -1;             ///< index of the background cluster, -1 if none
+  int iterations = 0;                  ///< shifted-binning passes until convergence
+  int num_static = 0, num_dynamic = 0, num_undecided = 0;
+};
+
+/// Grid-based motion clustering. Keeps its buffers between calls (no allocation
+/// in steady state); not thread-safe, use one per thread.
+class GmcClassifier {
+ public:
+  explicit GmcClassifier(const GmcParams& params = {});
+  const GmcParams& params() const { return params_; }
+
+  /// T_ref_cur: initial guess of the camera motion, mapping current-frame points into
+  /// the reference frame (the paper's R_j, T_j). Matches with non-finite or
+  /// non-positive depth are labelled Undecided and otherwise ignored.
+  GmcResult classify(const std::vector<MotionMatch>& matches, const Isometry& T_ref_cur,
+                     int image_width, int image_height);
+
+ private:
+  GmcParams params_;
+  // implementation state lives here (buffers reused across frames)
+  struct Workspace;
+  std::shared_ptr<Workspace> ws_;
+};
+
+}  // namespace gmc

@@ -1,0 +1,1 @@
+#include "gmc/gmc/gmc.h"

@@ -1,0 +1,101 @@
+#include <gtest/gtest.h>
+
+#include "gmc/config/ini.h"
+#include "gmc/gmc/options.h"
+
+namespace {
+
+struct DemoOptions {
+  int cells = 20;
+  double ratio = 0.5;
+  bool enabled = true;
+  std::string mode = "fast";
+  template <class V>
+  void visit(V& v) {
+    v("cells", cells, 1, 100, "cell count");
+    v("ratio", ratio, 0.0, 1.0, "a ratio");
+    v("enabled", enabled, "switch");
+    v.choice("mode", mode, {"fast", "exact"}, "how");
+  }
+};
+
+mrpt::config::CConfigFileMemory ini(const std::string& text) {
+  return mrpt::config::CConfigFileMemory(text);
+}
+
+TEST(Ini, LoadsValuesAndKeepsDefaults) {
+  DemoOptions o;
+  gmc::cfg::loadSection(ini("[Demo]\ncells = 7\nmode = exact ; comment\n"), "Demo", o);
+  EXPECT_EQ(o.cells, 7);
+  EXPECT_DOUBLE_EQ(o.ratio, 0.5);
+  EXPECT_TRUE(o.enabled);
+  EXPECT_EQ(o.mode, "exact");
+}
+
+TEST(Ini, RejectsUnknownKeyNamingIt) {
+  DemoOptions o;
+  try {
+    gmc::cfg::loadSection(ini("[Demo]\ncels = 7\n"), "Demo", o, "my.ini");
+    FAIL() << "no error";
+  } catch (const gmc::cfg::ConfigError& e) {
+    EXPECT_STREQ(e.what(), "my.ini: [Demo] cels: unknown key");
+  }
+}
+
+TEST(Ini, RejectsOutOfRangeAndMalformed) {
+  DemoOptions o;
+  EXPECT_THROW(gmc::cfg::loadSection(ini("[Demo]\ncells = -3\n"), "Demo", o),
+               gmc::cfg::ConfigError);
+  EXPECT_THROW(gmc::cfg::loadSection(ini("[Demo]\nratio = 1.5\n"), "Demo", o),
+               gmc::cfg::ConfigError);
+  EXPECT_THROW(gmc::cfg::loadSection(ini("[Demo]\ncells = 3x\n"), "Demo", o),
+               gmc::cfg::ConfigError);
+  EXPECT_THROW(gmc::cfg::loadSection(ini("[Demo]\nenabled = maybe\n"), "Demo", o),
+               gmc::cfg::ConfigError);
+  EXPECT_THROW(gmc::cfg::loadSection(ini("[Demo]\nmode = slow\n"), "Demo", o),
+               gmc::cfg::ConfigError);
+}
+
+TEST(Ini, SaveThenLoadRoundTrips) {
+  DemoOptions a;
+  a.cells = 42;
+  a.ratio = 0.125;
+  a.enabled = false;
+  a.mode = "exact";
+  mrpt::config::CConfigFileMemory mem;
+  gmc::cfg::saveSection(mem, "Demo", a);
+  DemoOptions b;
+  gmc::cfg::loadSection(mem, "Demo", b);
+  EXPECT_EQ(b.cells, 42);
+  EXPECT_DOUBLE_EQ(b.ratio, 0.125);
+  EXPECT_FALSE(b.enabled);
+  EXPECT_EQ(b.mode, "exact");
+}
+
+TEST(Ini, OverridesApplyAndMalformedOnesFail) {
+  auto mem = ini("[Demo]\ncells = 7\n");
+  gmc::cfg::applyOverrides(mem, {"Demo.cells=9", "Demo.enabled = false"});
+  DemoOptions o;
+  gmc::cfg::loadSection(mem, "Demo", o);
+  EXPECT_EQ(o.cells, 9);
+  EXPECT_FALSE(o.enabled);
+  EXPECT_THROW(gmc::cfg::applyOverrides(mem, {"cells=9"}), gmc::cfg::ConfigError);
+}
+
+TEST(Ini, RangeValidatorNamesKey) {
+  DemoOptions o;
+  EXPECT_EQ(gmc::validateOptions(o, "Demo"), "");
+  o.ratio = 2;
+  EXPECT_NE(gmc::validateOptions(o, "Demo").find("[Demo] ratio"), std::string::npos);
+}
+
+TEST(Ini, MissingFileIsNamed) {
+  try {
+    gmc::cfg::loadIniFile("/nonexistent/x.ini");
+    FAIL();
+  } catch (const gmc::cfg::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/x.ini"), std::string::npos);
+  }
+}
+
+}  // namespace
