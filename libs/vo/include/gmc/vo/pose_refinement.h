@@ -1,0 +1,49 @@
+#pragma once
+// Robust Gauss-Newton refinement of a camera motion on reprojection and depth
+// residuals (Huber), used on the matches GMC labels static.
+#include <vector>
+
+#include "gmc/gmc/types.h"
+
+namespace gmc::vo {
+
+/// INI section [Refinement].
+struct RefinementOptions {
+  int iterations = 10;
+  double pixel_sigma = 1.0;        ///< px, keypoint position noise
+  double depth_sigma_base = 0.002;  ///< m, depth noise at 0 m ...
+  double depth_sigma_per_m2 = 0.002;  ///< ... plus this times z^2 (Kinect-like)
+  double huber = 2.0;              ///< Huber threshold on whitened residuals
+  bool use_depth = true;           ///< add the depth residual to the reprojection residual
+
+  template <class V>
+  void visit(V& v) {
+    v("iterations", iterations, 1, 1000, "Gauss-Newton iterations");
+    v("pixel_sigma", pixel_sigma, 1e-3, 100.0, "px, keypoint noise");
+    v("depth_sigma_base", depth_sigma_base, 1e-5, 1.0, "m, depth noise at zero range");
+    v("depth_sigma_per_m2", depth_sigma_per_m2, 0.0, 1.0, "depth noise growth per z^2");
+    v("huber", huber, 0.1, 100.0, "Huber threshold on whitened residuals");
+    v("use_depth", use_depth, "use the depth residual as well");
+  }
+};
+
+/// A reference 3-D point observed in the current image at `pixel` with `depth` (0 = none).
+struct PointObservation {
+  Eigen::Vector3d point_ref;
+  Eigen::Vector2d pixel;
+  double depth = 0;
+};
+
+struct RefinementResult {
+  Isometry T_cur_ref = Isometry::Identity();
+  int inliers = 0;            ///< observations with whitened error below the Huber threshold
+  double final_cost = 0;
+  bool converged = false;
+};
+
+/// Refines T_cur_ref (maps reference points into the current camera frame).
+RefinementResult refinePose(const std::vector<PointObservation>& observations,
+                            const Isometry& T_cur_ref_initial, const PinholeCamera& camera,
+                            const RefinementOptions& options);
+
+}  // namespace gmc::vo

@@ -1,0 +1,100 @@
+#include "gmc/vo/pose_refinement.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+
+namespace gmc::vo {
+namespace {
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+/// exp map of a twist (rho, phi) to an isometry (left perturbation).
+Isometry expSE3(const Eigen::Matrix<double, 6, 1>& xi) {
+  const Eigen::Vector3d rho = xi.head<3>(), phi = xi.tail<3>();
+  const double theta = phi.norm();
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity(), V = Eigen::Matrix3d::Identity();
+  if (theta > 1e-10) {
+    const Eigen::Matrix3d K = skew(phi / theta);
+    R = Eigen::AngleAxisd(theta, phi / theta).toRotationMatrix();
+    V += (1 - std::cos(theta)) / theta * K + (theta - std::sin(theta)) / theta * K * K;
+  }
+  Isometry T = Isometry::Identity();
+  T.linear() = R;
+  T.translation() = V * rho;
+  return T;
+}
+
+inline double huberWeight(double whitened, double k) {
+  const double a = std::abs(whitened);
+  return a <= k ? 1.0 : k / a;
+}
+
+}  // namespace
+
+RefinementResult refinePose(const std::vector<PointObservation>& observations,
+                            const Isometry& T_cur_ref_initial, const PinholeCamera& camera,
+                            const RefinementOptions& options) {
+  RefinementResult result;
+  result.T_cur_ref = T_cur_ref_initial;
+  if (observations.size() < 3) return result;
+
+  using Vec6 = Eigen::Matrix<double, 6, 1>;
+  using Mat6 = Eigen::Matrix<double, 6, 6>;
+  for (int it = 0; it < options.iterations; ++it) {
+    Mat6 H = Mat6::Zero();
+    Vec6 g = Vec6::Zero();
+    double cost = 0;
+    int inliers = 0;
+    for (const auto& ob : observations) {
+      const Eigen::Vector3d p = result.T_cur_ref * ob.point_ref;
+      if (p.z() <= 1e-3) continue;
+      const double iz = 1.0 / p.z();
+      const double u = camera.fx * p.x() * iz + camera.cx;
+      const double v = camera.fy * p.y() * iz + camera.cy;
+      // d(point)/d(twist) for a left perturbation: [I | -[p]x]
+      Eigen::Matrix<double, 3, 6> dp;
+      dp.leftCols<3>().setIdentity();
+      dp.rightCols<3>() = -skew(p);
+      Eigen::Matrix<double, 2, 3> dproj;
+      dproj << camera.fx * iz, 0, -camera.fx * p.x() * iz * iz, 0, camera.fy * iz,
+          -camera.fy * p.y() * iz * iz;
+      const double inv_px = 1.0 / options.pixel_sigma;
+      const Eigen::Vector2d r_px = (Eigen::Vector2d(u, v) - ob.pixel) * inv_px;
+      const Eigen::Matrix<double, 2, 6> J_px = dproj * dp * inv_px;
+      const double w_px = huberWeight(r_px.norm(), options.huber);
+      H.noalias() += w_px * J_px.transpose() * J_px;
+      g.noalias() += w_px * J_px.transpose() * r_px;
+      double sq = r_px.squaredNorm();
+      bool inlier = r_px.norm() <= options.huber;
+      if (options.use_depth && ob.depth > 0) {
+        const double sigma = options.depth_sigma_base + options.depth_sigma_per_m2 * ob.depth * ob.depth;
+        const double r_z = (p.z() - ob.depth) / sigma;
+        const Eigen::Matrix<double, 1, 6> J_z = dp.row(2) / sigma;
+        const double w_z = huberWeight(r_z, options.huber);
+        H.noalias() += w_z * J_z.transpose() * J_z;
+        g.noalias() += w_z * J_z.transpose() * r_z;
+        sq += r_z * r_z;
+        inlier = inlier && std::abs(r_z) <= options.huber;
+      }
+      cost += sq;
+      inliers += inlier ? 1 : 0;
+    }
+    result.final_cost = cost;
+    result.inliers = inliers;
+    H.diagonal().array() += 1e-9;  // keeps degenerate directions solvable
+    const Vec6 delta = -H.ldlt().solve(g);
+    if (!delta.allFinite()) break;
+    result.T_cur_ref = expSE3(delta) * result.T_cur_ref;
+    if (delta.norm() < 1e-8) {
+      result.converged = true;
+      break;
+    }
+  }
+  return result;
+}
+
+}  // namespace gmc::vo
