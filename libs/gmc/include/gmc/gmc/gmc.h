@@ -19,30 +19,39 @@ struct MotionMatch {
 
 enum class MotionLabel : std::uint8_t { Static = 0, Dynamic = 1, Undecided = 2 };
 
-/// Parameters, named after the paper's symbols; INI section [GMC].
+/// Parameters, named after the paper's symbols; INI section [GMC]. See doc/gmc.md.
 struct GmcParams {
-  bool enabled = true;         ///< false: every valid match is labelled Static
+  bool enabled = true;         ///< false: every valid match is labelled Static (GMC off)
   int grid_cols = 20;          ///< G_x
   int grid_rows = 15;          ///< G_y
-  double e_int_x = 0.5;        ///< motion-pattern interval along x (normalised units)
-  double e_int_z = 0.5;        ///< motion-pattern interval along z (normalised units)
-  double alpha = 1.0;          ///< residual scale of Eq. (3)
+  double alpha = 100.0;        ///< Eq. (3): e = alpha * r / z (r in m, z = depth in m)
+  double e_int_x = 1.0;        ///< pattern interval along x (units of e)
+  double e_int_z = 2.0;        ///< pattern interval along z (depth noise grows faster)
+  bool use_y = false;          ///< third pattern axis (vertical motion)
+  double e_int_y = 1.0;        ///< pattern interval along y when use_y
   double p_min = 0.6;          ///< quadtree: split while winner < p_min * n_i ...
   int n_min = 8;               ///< ... and n_i > n_min
+  int max_depth = 2;           ///< quadtree levels below a grid cell
+  int min_cell_points = 3;     ///< leaves with fewer points do not vote
   int min_cluster_size = 10;   ///< clusters with fewer features are dropped (Alg. 2)
-  // (the implementation may add documented fields; keep names after the paper)
+  int max_rounds = 4;          ///< shifted-binning rounds until the assignment is stable
 
   template <class V>
   void visit(V& v) {
     v("enabled", enabled, "false = label every valid match static (GMC off)");
     v("grid_cols", grid_cols, 1, 200, "G_x, grid cells across the image");
     v("grid_rows", grid_rows, 1, 200, "G_y, grid cells down the image");
-    v("e_int_x", e_int_x, 1e-6, 1e3, "motion-pattern interval along x");
-    v("e_int_z", e_int_z, 1e-6, 1e3, "motion-pattern interval along z");
-    v("alpha", alpha, 1e-6, 1e6, "residual scale of Eq. (3)");
+    v("alpha", alpha, 1e-6, 1e6, "Eq. (3) scale: e = alpha * residual / depth");
+    v("e_int_x", e_int_x, 1e-6, 1e6, "motion-pattern interval along x");
+    v("e_int_z", e_int_z, 1e-6, 1e6, "motion-pattern interval along z");
+    v("use_y", use_y, "add the vertical axis to the pattern table");
+    v("e_int_y", e_int_y, 1e-6, 1e6, "motion-pattern interval along y (use_y)");
     v("p_min", p_min, 0.0, 1.0, "quadtree split while the winning pattern holds < p_min*n_i");
     v("n_min", n_min, 1, 100000, "quadtree split only while n_i > n_min");
+    v("max_depth", max_depth, 0, 6, "quadtree levels below a grid cell");
+    v("min_cell_points", min_cell_points, 1, 100000, "leaves with fewer points do not vote");
     v("min_cluster_size", min_cluster_size, 1, 100000, "clusters with fewer features are dropped");
+    v("max_rounds", max_rounds, 1, 100, "shifted-binning rounds until stable");
   }
 };
 
@@ -51,16 +60,17 @@ struct GmcCell {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< pixel bounds [x0,x1) x [y0,y1)
   int depth = 0;                       ///< quadtree level, 0 = grid cell
   int num_points = 0;                  ///< n_i
-  int pattern_x = 0, pattern_z = 0;    ///< winning motion pattern (0,0 = static)
+  int pattern_x = 0, pattern_y = 0, pattern_z = 0;  ///< winning pattern (0,0,0 = static)
+  int binning = 0;                     ///< 0 = base table, 1 = x shifted, 2 = z shifted, 3 = both
   int winner_count = 0, second_count = 0;
+  Eigen::Vector3f motion = Eigen::Vector3f::Zero();  ///< mean e of the winner's members, in intervals
   int cluster = -1;                    ///< index into GmcResult::clusters, -1 = none
 };
 
 /// A merged motion cluster.
 struct GmcCluster {
-  int pattern_x = 0, pattern_z = 0;
-  int support = 0;                     ///< matches in the cluster
-  Eigen::Vector3d mean_residual = Eigen::Vector3d::Zero();  ///< mean normalised residual
+  int support = 0;                     ///< matches in the cluster's winning patterns                     ///< matches in the cluster
+  Eigen::Vector3d mean_residual = Eigen::Vector3d::Zero();  ///< mean e, in pattern intervals
   Eigen::Vector3d mean_motion = Eigen::Vector3d::Zero();    ///< mean 3-D residual (m)
   bool is_static = false;
 };
@@ -70,6 +80,7 @@ struct GmcResult {
   std::vector<GmcCell> cells;          ///< leaf cells
   std::vector<GmcCluster> clusters;
   int static_cluster = -1;             ///< index of the background cluster, -1 if none
+  bool static_fallback = false;        ///< no cluster near zero motion: largest taken
   int iterations = 0;                  ///< shifted-binning passes until convergence
   int num_static = 0, num_dynamic = 0, num_undecided = 0;
 };
