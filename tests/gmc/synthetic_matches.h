@@ -108,15 +108,20 @@ struct GmsCase {
   std::vector<bool> is_true;
 };
 
+/// Keypoints within `radius` px of the image centre (0 = whole image).
 inline GmsCase makeGmsCase(int num_true, double outlier_ratio, unsigned seed, double shift_x = 12,
-                           double shift_y = -7) {
+                           double shift_y = -7, double radius = 0) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> U(0, 640), V(0, 480);
   std::normal_distribution<double> N(0, 1.0);
   GmsCase c;
   const int num_out = static_cast<int>(std::lround(num_true * outlier_ratio / (1 - outlier_ratio)));
   for (int i = 0; i < num_true + num_out; ++i) {
-    const float x = static_cast<float>(U(rng)), y = static_cast<float>(V(rng));
+    float x = static_cast<float>(U(rng)), y = static_cast<float>(V(rng));
+    while (radius > 0 && std::hypot(x - 320.0, y - 240.0) > radius) {
+      x = static_cast<float>(U(rng));
+      y = static_cast<float>(V(rng));
+    }
     c.kp1.push_back({x, y, 31, 0});
     if (i < num_true) {
       // A smooth image motion: shift plus a mild zoom about the centre.

@@ -37,7 +37,7 @@ TEST(Gms, KeepsTrueMatchesAndRejectsOutliers) {
 }
 
 TEST(Gms, RotationVariantHandlesARotatedImage) {
-  auto c = gmc::synth::makeGmsCase(1500, 0.5, 9, 0, 0);
+  auto c = gmc::synth::makeGmsCase(1500, 0.5, 9, 0, 0, 230);
   for (size_t i = 0; i < c.kp2.size(); ++i) {
     if (!c.is_true[i]) continue;
     // Rotate the second image by 90 degrees about its centre.

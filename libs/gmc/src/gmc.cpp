@@ -78,14 +78,23 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
   int num_valid = 0;
   for (size_t i = 0; i < n; ++i) {
     const MotionMatch& m = matches[i];
-    const double z = m.point_cur.z();
-    const bool ok = m.point_ref.allFinite() && m.point_cur.allFinite() && z > 0 &&
+    const bool ok = m.point_ref.allFinite() && m.point_cur.allFinite() && m.point_cur.z() > 0 &&
                     m.point_ref.z() > 0 && m.pixel.allFinite() && m.pixel.x() >= 0 &&
                     m.pixel.y() >= 0 && m.pixel.x() < image_width && m.pixel.y() < image_height;
     if (!ok) continue;
     const Eigen::Vector3d r = m.point_ref - (R * m.point_cur + t);
-    const Eigen::Vector3f en = (p.alpha * r / z).cast<float>();
-    w.e[i] = Eigen::Vector3f(en.x() * inv_int[0], en.y() * inv_int[1], en.z() * inv_int[2]);
+    // Eq. (3), refined with the covariance structure the paper cites (Beder & Steffen):
+    // the residual is split along the viewing ray (depth noise, ~d^2 on a Kinect) and
+    // across it (keypoint noise, ~d), each normalised by the point's distance d to its
+    // own power. Across-ray axes keep the camera's x (horizontal) and y (vertical) sense.
+    const double d = m.point_cur.norm();
+    const Eigen::Vector3d ray = m.point_cur / d;
+    const Eigen::Vector3d across_x = Eigen::Vector3d::UnitY().cross(ray).normalized();
+    const Eigen::Vector3d across_y = ray.cross(across_x);
+    w.e[i] = Eigen::Vector3f(
+        static_cast<float>(p.alpha * r.dot(across_x) / d) * inv_int[0],
+        static_cast<float>(p.alpha * r.dot(across_y) / d) * inv_int[1],
+        static_cast<float>(p.alpha * r.dot(ray) / std::pow(d, p.z_depth_power)) * inv_int[2]);
     for (int b = 0; b < kBinnings; ++b)
       w.code[i][static_cast<size_t>(b)] =
           packCode(clampBin(w.e[i].x() - kShift[b][0]), clampBin(w.e[i].y() - kShift[b][1]),
@@ -264,10 +273,14 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
   // --- Alg. 2 merge with non-maximum suppression: leaves in decreasing support seed
   // clusters; a seed absorbs adjacent voting leaves whose motion lies within one
   // interval of the cluster's running mean (same pattern, whatever the binning).
+  auto distance = [](const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
+    return (a - b).cwiseAbs().maxCoeff();  // in intervals, per-axis (Chebyshev)
+  };
   auto compatible = [](const Eigen::Vector3f& a, const Eigen::Vector3f& b, float tol) {
     return std::abs(a.x() - b.x()) <= tol && std::abs(a.y() - b.y()) <= tol &&
            std::abs(a.z() - b.z()) <= tol;
   };
+  const float merge_tol = static_cast<float>(p.merge_tolerance);
   w.order.clear();
   for (size_t id = 0; id < num_leaves; ++id)
     if (w.leaves[id].votes) w.order.push_back(static_cast<int>(id));
@@ -301,7 +314,7 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
         auto& leaf = w.leaves[static_cast<size_t>(nb)];
         if (!leaf.votes || leaf.cluster >= 0) continue;
         const Eigen::Vector3f mean = a.weighted / static_cast<float>(a.support);
-        if (!compatible(leaf.motion, mean, 1.0f)) continue;
+        if (!compatible(leaf.motion, mean, merge_tol)) continue;
         absorb(nb);
         w.queue.push_back(nb);
       }
@@ -320,7 +333,7 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
         if (c < 0 || c == best) continue;
         const Eigen::Vector3f mean = acc[static_cast<size_t>(c)].weighted / static_cast<float>(acc[static_cast<size_t>(c)].support);
         if (acc[static_cast<size_t>(c)].support > acc[static_cast<size_t>(best)].support &&
-            compatible(leaf.motion, mean, 1.0f))
+            compatible(leaf.motion, mean, merge_tol))
           best = c;
       }
       if (best != leaf.cluster) {
@@ -393,26 +406,33 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
     for (int k = 0; k < leaf.count; ++k) {
       const int i = w.items[static_cast<size_t>(leaf.first + k)];
       const Eigen::Vector3f& e = w.e[static_cast<size_t>(i)];
-      const bool like_static = compatible(e, static_motion, 1.0f);
+      // Nearest motion among the static background, the leaf's own cluster and the
+      // clusters of adjacent leaves; a match far from all of them stays Undecided.
+      const Eigen::Vector3f& own = cl >= 0 ? leaf.motion : static_motion;
+      float best_static = distance(e, static_motion);
+      // A static leaf's own motion stands for local background (a slightly wrong guess
+      // makes it vary across the image) only while it is close to the global one.
+      if (leaf_static && distance(own, static_motion) <= 0.5f)
+        best_static = std::min(best_static, distance(e, own));
+      float best_dynamic = cl >= 0 && !leaf_static ? distance(e, own)
+                                                   : std::numeric_limits<float>::max();
+      for (int nb : w.neighbours[id]) {
+        const auto& other_leaf = w.leaves[static_cast<size_t>(nb)];
+        const int c = other_leaf.cluster;
+        if (c < 0) continue;
+        const float d = distance(e, other_leaf.motion);
+        if (result.clusters[static_cast<size_t>(c)].is_static) {
+          if (distance(other_leaf.motion, static_motion) <= 0.5f) best_static = std::min(best_static, d);
+        } else
+          best_dynamic = std::min(best_dynamic, d);
+      }
       MotionLabel label = MotionLabel::Undecided;
-      if (cl < 0) {
-        // Non-voting leaf or dropped cluster: join an adjacent cluster it agrees with.
-        if (result.static_cluster >= 0 && compatible(e, static_motion, 0.5f)) label = MotionLabel::Static;
-        for (int nb : w.neighbours[id]) {
-          if (label != MotionLabel::Undecided) break;
-          const int c = w.leaves[static_cast<size_t>(nb)].cluster;
-          if (c < 0) continue;
-          const auto& other = result.clusters[static_cast<size_t>(c)];
-          if (!other.is_static && compatible(e, other.mean_residual.cast<float>(), 1.0f))
-            label = MotionLabel::Dynamic;
-        }
-      } else if (leaf_static) {
-        label = compatible(e, leaf.motion, 2.0f) || like_static ? MotionLabel::Static
-                                                                : MotionLabel::Undecided;
-      } else {
-        label = compatible(e, static_motion, 0.5f) && !compatible(e, leaf.motion, 1.5f)
-                    ? MotionLabel::Static
-                    : MotionLabel::Dynamic;
+      const float reach = cl >= 0 ? 2.0f : 1.0f;  // in intervals
+      if (result.static_cluster >= 0 || best_dynamic < reach) {
+        if (best_static <= best_dynamic && best_static <= reach)
+          label = MotionLabel::Static;
+        else if (best_dynamic < best_static && (best_dynamic <= reach || (cl >= 0 && !leaf_static)))
+          label = MotionLabel::Dynamic;
       }
       result.labels[static_cast<size_t>(i)] = label;
       if (cl >= 0 && inWinner(leaf, i)) {

@@ -126,6 +126,15 @@ std::vector<std::uint8_t> gmsFilter(const std::vector<GmsKeypoint>& keypoints1, 
         static_cast<size_t>(m.train) >= keypoints2.size())
       return best;  // malformed input: nothing is trusted
 
+  // GMS assumes dense matches (the paper uses 10k features on a 20x20 grid). With the
+  // sparser GFTT sets of RGB-D odometry, a coarser grid keeps the statistics meaningful.
+  int cols = params.grid_cols, rows = params.grid_rows;
+  const double density = static_cast<double>(matches.size()) / (cols * rows);
+  if (params.min_matches_per_cell > 0 && density < params.min_matches_per_cell) {
+    const double f = std::sqrt(density / params.min_matches_per_cell);
+    cols = std::max(2, static_cast<int>(std::lround(cols * f)));
+    rows = std::max(2, static_cast<int>(std::lround(rows * f)));
+  }
   GmsRun run(keypoints1, keypoints2, matches, params.alpha);
   const std::vector<double> scales =
       params.with_scale ? std::vector<double>{0.5, 1.0 / std::sqrt(2.0), 1.0, std::sqrt(2.0), 2.0}
@@ -135,8 +144,8 @@ std::vector<std::uint8_t> gmsFilter(const std::vector<GmsKeypoint>& keypoints1, 
   std::vector<std::uint8_t> inlier(matches.size());
   for (double scale : scales) {
     Grid right;
-    right.cols = std::max(1, static_cast<int>(std::lround(params.grid_cols * scale)));
-    right.rows = std::max(1, static_cast<int>(std::lround(params.grid_rows * scale)));
+    right.cols = std::max(1, static_cast<int>(std::lround(cols * scale)));
+    right.rows = std::max(1, static_cast<int>(std::lround(rows * scale)));
     right.sx = static_cast<double>(right.cols) / width2;
     right.sy = static_cast<double>(right.rows) / height2;
     for (int rotation = 0; rotation < rotations; ++rotation) {
@@ -146,10 +155,10 @@ std::vector<std::uint8_t> gmsFilter(const std::vector<GmsKeypoint>& keypoints1, 
       // a cell border in one grid is whole in another; inliers are the union.
       for (int s = 0; s < 4; ++s) {
         Grid left;
-        left.cols = params.grid_cols + 1;
-        left.rows = params.grid_rows + 1;
-        left.sx = static_cast<double>(params.grid_cols) / width1;
-        left.sy = static_cast<double>(params.grid_rows) / height1;
+        left.cols = cols + 1;
+        left.rows = rows + 1;
+        left.sx = static_cast<double>(cols) / width1;
+        left.sy = static_cast<double>(rows) / height1;
         left.shift_x = (s & 1) ? 0.5 : 0.0;
         left.shift_y = (s & 2) ? 0.5 : 0.0;
         count += run.run(left, right, rotation, inlier);

@@ -25,15 +25,17 @@ struct GmcParams {
   int grid_cols = 20;          ///< G_x
   int grid_rows = 15;          ///< G_y
   double alpha = 100.0;        ///< Eq. (3): e = alpha * r / z (r in m, z = depth in m)
-  double e_int_x = 1.0;        ///< pattern interval along x (units of e)
-  double e_int_z = 2.0;        ///< pattern interval along z (depth noise grows faster)
+  double z_depth_power = 2.0;  ///< e_z = alpha * r_z / z^power (Kinect depth noise ~ z^2)
+  double e_int_x = 0.5;        ///< pattern interval along x (units of e)
+  double e_int_z = 0.5;        ///< pattern interval along z (units of e)
   bool use_y = false;          ///< third pattern axis (vertical motion)
-  double e_int_y = 1.0;        ///< pattern interval along y when use_y
+  double e_int_y = 0.5;        ///< pattern interval along y when use_y
   double p_min = 0.6;          ///< quadtree: split while winner < p_min * n_i ...
   int n_min = 8;               ///< ... and n_i > n_min
   int max_depth = 2;           ///< quadtree levels below a grid cell
   int min_cell_points = 3;     ///< leaves with fewer points do not vote
   int min_cluster_size = 10;   ///< clusters with fewer features are dropped (Alg. 2)
+  double merge_tolerance = 0.75;  ///< leaves join a cluster within this many intervals
   int max_rounds = 4;          ///< shifted-binning rounds until the assignment is stable
 
   template <class V>
@@ -42,6 +44,7 @@ struct GmcParams {
     v("grid_cols", grid_cols, 1, 200, "G_x, grid cells across the image");
     v("grid_rows", grid_rows, 1, 200, "G_y, grid cells down the image");
     v("alpha", alpha, 1e-6, 1e6, "Eq. (3) scale: e = alpha * residual / depth");
+    v("z_depth_power", z_depth_power, 0.0, 3.0, "depth normalisation power of the z residual");
     v("e_int_x", e_int_x, 1e-6, 1e6, "motion-pattern interval along x");
     v("e_int_z", e_int_z, 1e-6, 1e6, "motion-pattern interval along z");
     v("use_y", use_y, "add the vertical axis to the pattern table");
@@ -51,6 +54,8 @@ struct GmcParams {
     v("max_depth", max_depth, 0, 6, "quadtree levels below a grid cell");
     v("min_cell_points", min_cell_points, 1, 100000, "leaves with fewer points do not vote");
     v("min_cluster_size", min_cluster_size, 1, 100000, "clusters with fewer features are dropped");
+    v("merge_tolerance", merge_tolerance, 0.01, 10.0,
+      "a leaf joins an adjacent cluster whose motion is within this many intervals");
     v("max_rounds", max_rounds, 1, 100, "shifted-binning rounds until stable");
   }
 };

@@ -21,6 +21,7 @@ struct GmsParams {
   int grid_cols = 20;
   int grid_rows = 20;
   double alpha = 6.0;          ///< threshold alpha*sqrt(n)
+  double min_matches_per_cell = 25.0;  ///< coarsen the grid below this density (0 = fixed grid)
   bool with_scale = false;
   bool with_rotation = false;
 
@@ -29,6 +30,8 @@ struct GmsParams {
     v("grid_cols", grid_cols, 1, 200, "GMS grid cells across each image");
     v("grid_rows", grid_rows, 1, 200, "GMS grid cells down each image");
     v("alpha", alpha, 0.0, 100.0, "inlier threshold alpha*sqrt(mean features per cell)");
+    v("min_matches_per_cell", min_matches_per_cell, 0.0, 1000.0,
+      "coarsen the grid until cells hold this many matches on average (0 = fixed grid)");
     v("with_scale", with_scale, "also try 5 relative scales");
     v("with_rotation", with_rotation, "also try 8 relative rotations");
   }
