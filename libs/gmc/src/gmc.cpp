@@ -75,6 +75,8 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
   const float inv_int[3] = {static_cast<float>(1.0 / p.e_int_x),
                             p.use_y ? static_cast<float>(1.0 / p.e_int_y) : 0.f,
                             static_cast<float>(1.0 / p.e_int_z)};
+  const bool squared = p.z_depth_power == 2.0;  // the default; avoids pow() per match
+  auto depth_scale = [&](double d) { return squared ? d * d : std::pow(d, p.z_depth_power); };
   int num_valid = 0;
   for (size_t i = 0; i < n; ++i) {
     const MotionMatch& m = matches[i];
@@ -94,7 +96,7 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
     w.e[i] = Eigen::Vector3f(
         static_cast<float>(p.alpha * r.dot(across_x) / d) * inv_int[0],
         static_cast<float>(p.alpha * r.dot(across_y) / d) * inv_int[1],
-        static_cast<float>(p.alpha * r.dot(ray) / std::pow(d, p.z_depth_power)) * inv_int[2]);
+        static_cast<float>(p.alpha * r.dot(ray) / depth_scale(d)) * inv_int[2]);
     for (int b = 0; b < kBinnings; ++b)
       w.code[i][static_cast<size_t>(b)] =
           packCode(clampBin(w.e[i].x() - kShift[b][0]), clampBin(w.e[i].y() - kShift[b][1]),
