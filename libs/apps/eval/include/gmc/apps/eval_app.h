@@ -1,0 +1,16 @@
+#pragma once
+#include "gmc/apps/app.h"
+
+namespace gmc::apps {
+
+/// gmc-eval --gt FILE --est FILE [--json OUT.json] [--plot OUT.png]
+class EvalApp : public App {
+ public:
+  void initialize(const std::vector<std::string>& args) override;
+  int run() override;
+
+ private:
+  std::string gt_, est_, json_, plot_;
+};
+
+}  // namespace gmc::apps

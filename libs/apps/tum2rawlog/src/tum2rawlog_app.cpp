@@ -1,0 +1,74 @@
+#include "gmc/apps/tum2rawlog_app.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "gmc/datasets/camera.h"
+#include "gmc/datasets/rawlog.h"
+#include "gmc/datasets/source.h"
+#include "gmc/datasets/tum.h"
+
+namespace gmc::apps {
+namespace fs = std::filesystem;
+namespace {
+const char* kUsage =
+    "usage: gmc-tum2rawlog <tum_dir> <out.rawlog> [--camera fr1|fr2|fr3|bonn|fx,fy,cx,cy] "
+    "[--externalize]";
+}
+
+void Tum2RawlogApp::initialize(const std::vector<std::string>& args) {
+  std::vector<std::string> positional;
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "--camera") {
+      if (i + 1 >= args.size()) throw AppError("--camera needs a value\n" + std::string(kUsage), 2);
+      camera_ = args[++i];
+    } else if (args[i] == "--externalize") {
+      externalize_ = true;
+    } else if (!args[i].empty() && args[i][0] == '-') {
+      throw AppError("unknown option '" + args[i] + "'\n" + kUsage, 2);
+    } else {
+      positional.push_back(args[i]);
+    }
+  }
+  if (positional.size() != 2) throw AppError(kUsage, 2);
+  input_ = positional[0];
+  output_ = positional[1];
+}
+
+int Tum2RawlogApp::run() {
+  if (!fs::is_directory(input_)) throw AppError(input_ + ": not a TUM-layout folder");
+  PinholeCamera camera;
+  try {
+    camera = datasets::cameraPreset(camera_);
+  } catch (const std::invalid_argument& e) {
+    throw AppError(std::string("--camera: ") + e.what(), 2);
+  }
+  auto source = datasets::openRgbdSource(input_, camera);
+  datasets::RawlogWriter writer(output_, externalize_);
+  std::vector<double> stamps;
+  datasets::RgbdFrame frame;
+  while (source->next(frame)) {  // a bad frame is an error here: a converter must not drop data
+    writer.write(frame);
+    stamps.push_back(frame.stamp);
+  }
+  const fs::path gt_path = fs::path(input_) / "groundtruth.txt";
+  std::string gt_out;
+  if (fs::exists(gt_path)) {
+    const auto gt = datasets::readTumTrajectory(gt_path.string());
+    std::vector<datasets::StampedPose> at_frames;
+    for (double s : stamps)
+      if (auto T = datasets::interpolatePose(gt, s)) at_frames.push_back({s, *T});
+    const fs::path out(output_);
+    gt_out = (out.parent_path() / (out.stem().string() + "_groundtruth.txt")).string();
+    datasets::writeTumTrajectory(gt_out, at_frames);
+  }
+  writer.close();
+  std::printf("%s: %zu observations (%zu RGB frames without depth within 0.02 s skipped)\n",
+              output_.c_str(), writer.count(),
+              datasets::readTumList((fs::path(input_) / "rgb.txt").string()).size() - writer.count());
+  if (!gt_out.empty()) std::printf("%s: ground truth at the frame stamps\n", gt_out.c_str());
+  return 0;
+}
+
+}  // namespace gmc::apps

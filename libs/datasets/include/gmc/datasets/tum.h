@@ -1,0 +1,51 @@
+#pragma once
+// TUM RGB-D text formats: file lists (rgb.txt, depth.txt), trajectories
+// (timestamp tx ty tz qx qy qz qw), and timestamp association.
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gmc/gmc/types.h"
+
+namespace gmc::datasets {
+
+/// A malformed or unreadable input file; the message names the file and line.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct TumListEntry {
+  double stamp = 0;
+  std::string path;  ///< as written in the list (relative to the list's folder)
+};
+
+/// Reads rgb.txt / depth.txt. Comment lines start with '#'.
+std::vector<TumListEntry> readTumList(const std::string& path);
+void writeTumList(const std::string& path, const std::vector<TumListEntry>& entries,
+                  const std::string& header_comment);
+
+struct StampedPose {
+  double stamp = 0;
+  Isometry pose = Isometry::Identity();  ///< T_world_camera (optical frame)
+};
+
+/// Reads a TUM trajectory; separators may be spaces, tabs or commas (as TUM's tools).
+std::vector<StampedPose> readTumTrajectory(const std::string& path);
+/// Writes atomically, stamps with 6 decimals, poses with 9 significant digits.
+void writeTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses);
+
+/// TUM's associate.py: candidate pairs with |a - b| < max_dt, taken greedily by
+/// increasing |a - b|, each stamp used once; result sorted by the first stamp.
+std::vector<std::pair<size_t, size_t>> associate(const std::vector<double>& first,
+                                                 const std::vector<double>& second,
+                                                 double max_dt = 0.02);
+
+/// Pose at `stamp`, interpolated between the neighbouring poses (slerp); nullopt outside
+/// the trajectory or across a gap longer than max_gap seconds.
+std::optional<Isometry> interpolatePose(const std::vector<StampedPose>& trajectory, double stamp,
+                                        double max_gap = 0.1);
+
+}  // namespace gmc::datasets

@@ -1,0 +1,155 @@
+#include "gmc/datasets/evaluation.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace gmc::datasets {
+
+ErrorStats ErrorStats::of(const std::vector<double>& e) {
+  ErrorStats s;
+  if (e.empty()) return s;
+  double sq = 0, sum = 0;
+  for (double v : e) sq += v * v, sum += v, s.max = std::max(s.max, v);
+  s.rmse = std::sqrt(sq / e.size());
+  s.mean = sum / e.size();
+  std::vector<double> sorted = e;
+  std::sort(sorted.begin(), sorted.end());
+  const size_t n = sorted.size();
+  s.median = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+  return s;
+}
+
+namespace {
+std::vector<double> stampsOf(const std::vector<StampedPose>& t) {
+  std::vector<double> s(t.size());
+  for (size_t i = 0; i < t.size(); ++i) s[i] = t[i].stamp;
+  return s;
+}
+
+size_t closestIndex(const std::vector<double>& sorted, double v) {
+  auto it = std::lower_bound(sorted.begin(), sorted.end(), v);
+  if (it == sorted.end()) return sorted.size() - 1;
+  if (it == sorted.begin()) return 0;
+  return (v - *(it - 1) <= *it - v) ? static_cast<size_t>(it - sorted.begin() - 1)
+                                    : static_cast<size_t>(it - sorted.begin());
+}
+}  // namespace
+
+AteResult computeAte(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est,
+                     double max_dt) {
+  AteResult r;
+  const auto pairs = associate(stampsOf(gt), stampsOf(est), max_dt);
+  r.pairs = pairs.size();
+  if (pairs.size() < 3) return r;
+  Eigen::Matrix3Xd model(3, pairs.size()), data(3, pairs.size());
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    data.col(static_cast<Eigen::Index>(k)) = gt[pairs[k].first].pose.translation();
+    model.col(static_cast<Eigen::Index>(k)) = est[pairs[k].second].pose.translation();
+  }
+  r.alignment.matrix() = Eigen::umeyama(model, data, false);
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    const Eigen::Vector3d aligned = r.alignment * model.col(static_cast<Eigen::Index>(k));
+    r.stamps.push_back(est[pairs[k].second].stamp);
+    r.gt_positions.push_back(data.col(static_cast<Eigen::Index>(k)));
+    r.aligned_positions.push_back(aligned);
+    r.errors.push_back((aligned - data.col(static_cast<Eigen::Index>(k))).norm());
+  }
+  r.error = ErrorStats::of(r.errors);
+  return r;
+}
+
+RpeResult computeRpe(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est,
+                     double delta) {
+  RpeResult r;
+  if (gt.size() < 2 || est.size() < 2) return r;
+  const auto gs = stampsOf(gt), es = stampsOf(est);
+  // Ground-truth stamps further than twice the median ground-truth period are unmatched.
+  std::vector<double> periods;
+  for (size_t i = 1; i < gs.size(); ++i) periods.push_back(gs[i] - gs[i - 1]);
+  std::nth_element(periods.begin(), periods.begin() + periods.size() / 2, periods.end());
+  const double max_gt_dt = 2 * periods[periods.size() / 2];
+  std::vector<double> trans, rot;
+  for (size_t i = 0; i < es.size(); ++i) {
+    const size_t j = closestIndex(es, es[i] + delta);
+    if (j <= i || std::abs(es[j] - es[i] - delta) > delta / 2) continue;
+    const size_t g0 = closestIndex(gs, es[i]), g1 = closestIndex(gs, es[j]);
+    if (std::abs(gs[g0] - es[i]) > max_gt_dt || std::abs(gs[g1] - es[j]) > max_gt_dt) continue;
+    const Isometry d_est = est[i].pose.inverse() * est[j].pose;
+    const Isometry d_gt = gt[g0].pose.inverse() * gt[g1].pose;
+    const Isometry err = d_gt.inverse() * d_est;
+    trans.push_back(err.translation().norm());
+    const double c = std::clamp((err.linear().trace() - 1) / 2, -1.0, 1.0);
+    rot.push_back(std::acos(c) * 180.0 / M_PI);
+  }
+  r.pairs = trans.size();
+  r.translation = ErrorStats::of(trans);
+  r.rotation = ErrorStats::of(rot);
+  return r;
+}
+
+std::string evaluationJson(const AteResult& ate, const RpeResult& rpe) {
+  std::ostringstream os;
+  os.precision(9);
+  os << "{\n  \"ate\": {\"rmse\": " << ate.error.rmse << ", \"mean\": " << ate.error.mean
+     << ", \"median\": " << ate.error.median << ", \"max\": " << ate.error.max
+     << ", \"pairs\": " << ate.pairs << "},\n  \"rpe\": {\"trans_rmse\": " << rpe.translation.rmse
+     << ", \"trans_median\": " << rpe.translation.median << ", \"rot_rmse\": " << rpe.rotation.rmse
+     << ", \"rot_median\": " << rpe.rotation.median << ", \"pairs\": " << rpe.pairs
+     << ", \"delta_s\": 1.0}\n}\n";
+  return os.str();
+}
+
+cv::Mat plotTrajectory(const AteResult& ate, const std::string& title) {
+  const int W = 900, top_h = 620, bottom_h = 260, margin = 60;
+  cv::Mat img(top_h + bottom_h, W, CV_8UC3, cv::Scalar(255, 255, 255));
+  if (ate.gt_positions.empty()) return img;
+  // Plane with the largest extent: the two axes of largest ground-truth spread.
+  Eigen::Vector3d lo = ate.gt_positions[0], hi = lo;
+  for (const auto& p : ate.gt_positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  for (const auto& p : ate.aligned_positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Eigen::Vector3d ext = hi - lo;
+  int a0 = 0, a1 = 1;
+  if (ext[2] > std::min(ext[0], ext[1])) (ext[0] < ext[1] ? a0 : a1) = 2;
+  if (a0 > a1) std::swap(a0, a1);
+  const double span = std::max({ext[a0], ext[a1], 1e-3});
+  const double scale = std::min((W - 2 * margin) / span, (top_h - 2 * margin) / span);
+  auto toPx = [&](const Eigen::Vector3d& p) {
+    return cv::Point(static_cast<int>(margin + (p[a0] - lo[a0]) * scale),
+                     static_cast<int>(top_h - margin - (p[a1] - lo[a1]) * scale));
+  };
+  for (size_t k = 1; k < ate.gt_positions.size(); ++k) {
+    cv::line(img, toPx(ate.gt_positions[k - 1]), toPx(ate.gt_positions[k]), cv::Scalar(40, 40, 40), 2, cv::LINE_AA);
+    cv::line(img, toPx(ate.aligned_positions[k - 1]), toPx(ate.aligned_positions[k]), cv::Scalar(30, 30, 220), 1, cv::LINE_AA);
+  }
+  const char* names = "xyz";
+  char text[256];
+  std::snprintf(text, sizeof text, "%s   ATE RMSE %.4f m over %zu pairs", title.c_str(),
+                ate.error.rmse, ate.pairs);
+  cv::putText(img, text, {margin, 30}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  std::snprintf(text, sizeof text, "top view: %c (right) vs %c (up), 1 m = %.0f px;  black: ground truth, red: aligned estimate",
+                names[a0], names[a1], scale);
+  cv::putText(img, text, {margin, top_h - 15}, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
+  // Error over time.
+  const double t0 = ate.stamps.front(), t1 = std::max(ate.stamps.back(), t0 + 1e-6);
+  const double emax = std::max(ate.error.max, 1e-4);
+  const int y0 = top_h + bottom_h - 40, h = bottom_h - 80;
+  cv::line(img, {margin, y0}, {W - margin, y0}, cv::Scalar(0, 0, 0));
+  cv::line(img, {margin, y0}, {margin, y0 - h}, cv::Scalar(0, 0, 0));
+  for (size_t k = 1; k < ate.errors.size(); ++k) {
+    auto px = [&](size_t i) {
+      return cv::Point(static_cast<int>(margin + (ate.stamps[i] - t0) / (t1 - t0) * (W - 2 * margin)),
+                       static_cast<int>(y0 - ate.errors[i] / emax * h));
+    };
+    cv::line(img, px(k - 1), px(k), cv::Scalar(30, 30, 220), 1, cv::LINE_AA);
+  }
+  std::snprintf(text, sizeof text, "position error over time (max %.4f m, %.1f s)", emax, t1 - t0);
+  cv::putText(img, text, {margin, top_h + 25}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  return img;
+}
+
+}  // namespace gmc::datasets

@@ -1,0 +1,114 @@
+#include "gmc/datasets/rawlog.h"
+
+#include <mrpt/img/CImage.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/serialization/CArchive.h>
+#include <opencv2/imgproc.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+namespace gmc::datasets {
+namespace fs = std::filesystem;
+
+mrpt::obs::CObservation3DRangeScan::Ptr toObservation(const RgbdFrame& frame,
+                                                      const std::string& sensor_label) {
+  auto obs = std::make_shared<mrpt::obs::CObservation3DRangeScan>();
+  obs->sensorLabel = sensor_label;
+  obs->timestamp = mrpt::Clock::fromDouble(frame.stamp);
+  mrpt::img::TCamera cam;
+  cam.ncols = static_cast<uint32_t>(frame.depth.cols);
+  cam.nrows = static_cast<uint32_t>(frame.depth.rows);
+  cam.fx(frame.camera.fx);
+  cam.fy(frame.camera.fy);
+  cam.cx(frame.camera.cx);
+  cam.cy(frame.camera.cy);
+  obs->cameraParams = cam;
+  obs->cameraParamsIntensity = cam;  // registered pair: same intrinsics, same centre
+  obs->range_is_depth = true;
+  obs->rangeUnits = static_cast<float>(frame.depth_units);
+  obs->hasRangeImage = true;
+  obs->rangeImage.resize(frame.depth.rows, frame.depth.cols);
+  for (int r = 0; r < frame.depth.rows; ++r) {
+    const auto* row = frame.depth.ptr<std::uint16_t>(r);
+    for (int c = 0; c < frame.depth.cols; ++c) obs->rangeImage(r, c) = row[c];
+  }
+  obs->hasIntensityImage = true;
+  obs->intensityImage = mrpt::img::CImage(frame.rgb, mrpt::img::DEEP_COPY);
+  obs->intensityImageChannel = mrpt::obs::CObservation3DRangeScan::CH_VISIBLE;
+  return obs;
+}
+
+RgbdFrame fromObservation(const mrpt::obs::CObservation3DRangeScan& obs) {
+  obs.load();  // externally stored images
+  if (!obs.hasRangeImage) throw std::runtime_error("observation has no range image");
+  if (!obs.hasIntensityImage) throw std::runtime_error("observation has no intensity image");
+  RgbdFrame f;
+  f.stamp = mrpt::Clock::toDouble(obs.timestamp);
+  f.depth_units = obs.rangeUnits;
+  const auto& ri = obs.rangeImage;
+  f.depth.create(static_cast<int>(ri.rows()), static_cast<int>(ri.cols()), CV_16UC1);
+  for (int r = 0; r < f.depth.rows; ++r) {
+    auto* row = f.depth.ptr<std::uint16_t>(r);
+    for (int c = 0; c < f.depth.cols; ++c) row[c] = ri(r, c);
+  }
+  const cv::Mat& img = obs.intensityImage.asCvMatRef();
+  if (img.channels() == 1)
+    cv::cvtColor(img, f.rgb, cv::COLOR_GRAY2BGR);
+  else
+    f.rgb = img;  // shared, read-only use
+  const auto& cam = obs.cameraParamsIntensity;
+  f.camera.fx = cam.fx();
+  f.camera.fy = cam.fy();
+  f.camera.cx = cam.cx();
+  f.camera.cy = cam.cy();
+  f.camera.width = f.depth.cols;
+  f.camera.height = f.depth.rows;
+  if (!obs.range_is_depth)
+    throw std::runtime_error("observation holds ranges, not depth (range_is_depth = false)");
+  return f;
+}
+
+RawlogWriter::RawlogWriter(const std::string& path, bool externalize_images)
+    : path_(path), externalize_(externalize_images), file_(path) {
+  if (externalize_) {
+    const fs::path p(path);
+    images_dir_ = (p.parent_path() / (p.stem().string() + "_Images")).string();
+    fs::create_directories(images_dir_);
+  }
+  out_ = std::make_unique<mrpt::io::CFileGZOutputStream>();
+  if (!out_->open(file_.tempPath(), 1))
+    throw std::runtime_error(path + ": cannot create rawlog");
+}
+
+RawlogWriter::~RawlogWriter() = default;
+
+void RawlogWriter::write(const RgbdFrame& frame, const std::string& sensor_label) {
+  auto obs = toObservation(frame, sensor_label);
+  write(*obs);
+}
+
+void RawlogWriter::write(mrpt::obs::CObservation3DRangeScan& obs) {
+  if (!out_) throw std::runtime_error(path_ + ": rawlog already closed");
+  if (externalize_ && obs.hasIntensityImage && !obs.intensityImage.isExternallyStored()) {
+    char name[64];
+    std::snprintf(name, sizeof name, "%s_%.6f.png", obs.sensorLabel.c_str(),
+                  mrpt::Clock::toDouble(obs.timestamp));
+    if (!obs.intensityImage.saveToFile((fs::path(images_dir_) / name).string()))
+      throw std::runtime_error(images_dir_ + "/" + name + ": cannot write image");
+    obs.intensityImage.setExternalStorage(name);
+  }
+  auto archive = mrpt::serialization::archiveFrom(*out_);
+  archive << obs;
+  ++count_;
+}
+
+void RawlogWriter::close() {
+  if (!out_) return;
+  out_->close();
+  out_.reset();
+  file_.commit();
+}
+
+}  // namespace gmc::datasets
