@@ -113,7 +113,18 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
   }
 
   // --- Alg. 1 l.4-8: grid cells; matches sorted by cell (counting sort, no allocation).
-  const int gx = p.grid_cols, gy = p.grid_rows, num_cells = gx * gy;
+  // The paper's 20 x 15 grid assumes ORB-SLAM-dense features; with fewer matches the
+  // cells would hold too few points to vote, so the grid is coarsened (aspect kept).
+  int gx = p.grid_cols, gy = p.grid_rows;
+  const double density = static_cast<double>(num_valid) / (gx * gy);
+  if (p.min_matches_per_cell > 0 && density < p.min_matches_per_cell) {
+    const double f = std::sqrt(density / p.min_matches_per_cell);
+    gx = std::max(2, static_cast<int>(std::lround(gx * f)));
+    gy = std::max(2, static_cast<int>(std::lround(gy * f)));
+  }
+  result.grid_cols = gx;
+  result.grid_rows = gy;
+  const int num_cells = gx * gy;
   auto cellOf = [&](const MotionMatch& m) {
     const int cx = std::min(gx - 1, static_cast<int>(m.pixel.x() * gx / image_width));
     const int cy = std::min(gy - 1, static_cast<int>(m.pixel.y() * gy / image_height));

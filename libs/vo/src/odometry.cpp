@@ -72,7 +72,6 @@ RgbdOdometry::Guess RgbdOdometry::initialGuess(const std::vector<MotionMatch>& m
   std::vector<int> pool;
   for (size_t i = 0; i < matches.size(); ++i)
     if (trusted[i]) pool.push_back(static_cast<int>(i));
-  if (pool.size() < 3 || config_.odometry.ransac_iterations == 0) return guess;
 
   auto next = [this]() {  // xorshift64*: deterministic, cheap
     rng_state_ ^= rng_state_ >> 12;
@@ -83,7 +82,8 @@ RgbdOdometry::Guess RgbdOdometry::initialGuess(const std::vector<MotionMatch>& m
   Isometry best_T = predicted;
   int best_support = -1;
   Eigen::Matrix3Xd src(3, 3), dst(3, 3);
-  for (int it = 0; it < config_.odometry.ransac_iterations; ++it) {
+  const int iterations = pool.size() < 3 ? 0 : config_.odometry.ransac_iterations;
+  for (int it = 0; it < iterations; ++it) {
     int idx[3];
     for (int k = 0; k < 3; ++k) idx[k] = pool[next() % pool.size()];
     if (idx[0] == idx[1] || idx[0] == idx[2] || idx[1] == idx[2]) continue;
@@ -104,24 +104,30 @@ RgbdOdometry::Guess RgbdOdometry::initialGuess(const std::vector<MotionMatch>& m
   const int pred_support_trusted = countSupport(matches, predicted, &trusted);
   if (best_support > 0 &&
       pred_support_trusted < config_.odometry.prediction_support * best_support) {
-    // Polish the hypothesis on its own inliers.
-    std::vector<int> in;
-    const auto& o = config_.odometry;
-    for (int i : pool) {
-      const auto& m = matches[static_cast<size_t>(i)];
-      const double thr = o.inlier_base + o.inlier_per_m2 * m.point_cur.z() * m.point_cur.z();
-      if ((m.point_ref - best_T * m.point_cur).squaredNorm() < thr * thr) in.push_back(i);
-    }
-    Eigen::Matrix3Xd s(3, in.size()), d(3, in.size());
-    for (size_t k = 0; k < in.size(); ++k) {
-      s.col(static_cast<Eigen::Index>(k)) = matches[static_cast<size_t>(in[k])].point_cur;
-      d.col(static_cast<Eigen::Index>(k)) = matches[static_cast<size_t>(in[k])].point_ref;
-    }
-    fitRigid(s, d, best_T);
     guess.T_kf_cur = best_T;
     guess.from_ransac = true;
-    guess.support = countSupport(matches, best_T, nullptr);
   }
+  // Polish on the hypothesis' inliers: GMC measures residuals against this guess, and a
+  // centimetre of error would shift the whole background off the zero-motion pattern.
+  const auto& o = config_.odometry;
+  for (int round = 0; round < 3; ++round) {
+    std::vector<int> in;
+    for (size_t i = 0; i < matches.size(); ++i) {
+      if (!trusted[i]) continue;
+      const auto& m = matches[i];
+      const double thr = o.inlier_base + o.inlier_per_m2 * m.point_cur.z() * m.point_cur.z();
+      if ((m.point_ref - guess.T_kf_cur * m.point_cur).squaredNorm() < thr * thr)
+        in.push_back(static_cast<int>(i));
+    }
+    if (in.size() < 6) break;
+    Eigen::Matrix3Xd src(3, in.size()), dst(3, in.size());
+    for (size_t k = 0; k < in.size(); ++k) {
+      src.col(static_cast<Eigen::Index>(k)) = matches[static_cast<size_t>(in[k])].point_cur;
+      dst.col(static_cast<Eigen::Index>(k)) = matches[static_cast<size_t>(in[k])].point_ref;
+    }
+    fitRigid(src, dst, guess.T_kf_cur);
+  }
+  guess.support = countSupport(matches, guess.T_kf_cur, nullptr);
   return guess;
 }
 

@@ -28,6 +28,9 @@ class App {
   virtual int run() = 0;
 };
 
+/// Keeps image-sized allocations off mmap (expensive page faults); called by runMain().
+void tuneAllocator();
+
 /// Runs an app from main(): "<app>: error: <message>" on stderr and a non-zero exit
 /// code for any exception.
 int runMain(App& app, const char* app_name, int argc, char** argv);

@@ -24,6 +24,7 @@ struct GmcParams {
   bool enabled = true;         ///< false: every valid match is labelled Static (GMC off)
   int grid_cols = 20;          ///< G_x
   int grid_rows = 15;          ///< G_y
+  double min_matches_per_cell = 4.0;  ///< coarsen the grid below this mean density (0 = fixed)
   double alpha = 100.0;        ///< Eq. (3): e = alpha * r / z (r in m, z = depth in m)
   double z_depth_power = 2.0;  ///< e_z = alpha * r_z / z^power (Kinect depth noise ~ z^2)
   double e_int_x = 0.5;        ///< pattern interval along x (units of e)
@@ -43,6 +44,8 @@ struct GmcParams {
     v("enabled", enabled, "false = label every valid match static (GMC off)");
     v("grid_cols", grid_cols, 1, 200, "G_x, grid cells across the image");
     v("grid_rows", grid_rows, 1, 200, "G_y, grid cells down the image");
+    v("min_matches_per_cell", min_matches_per_cell, 0.0, 1000.0,
+      "coarsen the grid until cells hold this many matches on average (0 = fixed grid)");
     v("alpha", alpha, 1e-6, 1e6, "Eq. (3) scale: e = alpha * residual / depth");
     v("z_depth_power", z_depth_power, 0.0, 3.0, "depth normalisation power of the z residual");
     v("e_int_x", e_int_x, 1e-6, 1e6, "motion-pattern interval along x");
@@ -86,7 +89,8 @@ struct GmcResult {
   std::vector<GmcCluster> clusters;
   int static_cluster = -1;             ///< index of the background cluster, -1 if none
   bool static_fallback = false;        ///< no cluster near zero motion: largest taken
-  int iterations = 0;                  ///< shifted-binning passes until convergence
+  int iterations = 0;                  ///< re-assignment rounds until convergence
+  int grid_cols = 0, grid_rows = 0;    ///< grid actually used (coarsened when sparse)
   int num_static = 0, num_dynamic = 0, num_undecided = 0;
 };
 
