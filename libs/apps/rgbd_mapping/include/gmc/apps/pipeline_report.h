@@ -1,0 +1,34 @@
+#pragma once
+// Per-run counters and per-stage timing of gmc-rgbd-mapping (summary.json).
+#include <string>
+#include <vector>
+
+#include "gmc/mapping/static_map.h"
+#include "gmc/vo/odometry.h"
+
+namespace gmc::apps {
+
+/// Median and 95th percentile of a series (0 when empty).
+struct Percentiles {
+  double median = 0, p95 = 0;
+  static Percentiles of(std::vector<double> values);
+};
+
+struct PipelineReport {
+  size_t frames = 0, tracked = 0, lost = 0, reanchored = 0, keyframes = 0;
+  size_t dropped = 0;   ///< realtime playback could not keep up
+  size_t skipped = 0;   ///< frames that could not be read
+  size_t map_inserts = 0;
+  double wall_seconds = 0;
+  bool interrupted = false;
+  bool has_map = false;
+  mapping::MapStats map;
+  std::vector<double> frontend_ms, guess_ms, gmc_ms, refine_ms, odometry_ms, map_ms, total_ms;
+  size_t static_matches = 0, dynamic_matches = 0;
+
+  void addFrame(const vo::FrameTracking& t, double map_insert_ms, double pipeline_ms);
+  std::string toJson() const;
+  std::string toText() const;
+};
+
+}  // namespace gmc::apps

@@ -1,0 +1,82 @@
+#pragma once
+// gmc-rgbd-mapping: rawlog/TUM playback -> observation filter chain (GMC odometry and
+// dynamic masks) -> OctoMap of static depth -> trajectory, map, summary.
+#include <atomic>
+#include <string>
+#include <vector>
+
+#include "gmc/apps/app.h"
+
+namespace gmc::apps {
+
+/// INI section [Dataset].
+struct DatasetOptions {
+  std::string camera = "fr3";  ///< fr1|fr2|fr3|bonn|custom (custom: fx, fy, cx, cy below)
+  double fx = 535.4, fy = 539.2, cx = 320.1, cy = 247.6;
+  int max_frames = 0;          ///< 0 = all
+  int first_frame = 0;
+  std::string groundtruth;     ///< optional TUM file; "auto" = <input>/groundtruth.txt if present
+  bool anchor_to_groundtruth = false;  ///< start the trajectory at the ground-truth pose
+
+  template <class V>
+  void visit(V& v) {
+    v.choice("camera", camera, {"fr1", "fr2", "fr3", "bonn", "custom"}, "intrinsics preset");
+    v("fx", fx, 1.0, 1e5, "custom focal length x (px)");
+    v("fy", fy, 1.0, 1e5, "custom focal length y (px)");
+    v("cx", cx, 0.0, 1e5, "custom principal point x (px)");
+    v("cy", cy, 0.0, 1e5, "custom principal point y (px)");
+    v("max_frames", max_frames, 0, 100000000, "process at most this many frames (0 = all)");
+    v("first_frame", first_frame, 0, 100000000, "skip this many frames first");
+    v("groundtruth", groundtruth, "TUM ground truth file, 'auto', or empty");
+    v("anchor_to_groundtruth", anchor_to_groundtruth,
+      "start the trajectory at the first ground-truth pose (maps comparable with ground truth)");
+  }
+};
+
+/// INI section [Playback].
+struct PlaybackOptions {
+  std::string mode = "as_fast_as_possible";  ///< or "realtime" (paced by timestamps)
+  double rate = 1.0;                         ///< realtime speed factor
+  bool progress = true;                      ///< progress line on a terminal
+
+  template <class V>
+  void visit(V& v) {
+    v.choice("mode", mode, {"as_fast_as_possible", "realtime"}, "playback pacing");
+    v("rate", rate, 0.01, 100.0, "realtime speed factor");
+    v("progress", progress, "progress line (frame, fps, ETA) on a terminal");
+  }
+};
+
+/// INI section [Output].
+struct OutputOptions {
+  bool map = true;                 ///< build and write map.bt
+  bool filtered_rawlog = false;    ///< write filtered.rawlog
+  int overlay_every = 0;           ///< write overlays/<stamp>.png every N frames (0 = never)
+  int map_insert_every = 1;        ///< insert every N-th tracked frame into the map
+
+  template <class V>
+  void visit(V& v) {
+    v("map", map, "build the OctoMap and write map.bt");
+    v("filtered_rawlog", filtered_rawlog, "write the filtered observations to filtered.rawlog");
+    v("overlay_every", overlay_every, 0, 1000000, "overlay PNG every N frames (0 = none)");
+    v("map_insert_every", map_insert_every, 1, 1000000, "insert every N-th tracked frame");
+  }
+};
+
+class RgbdMappingApp : public App {
+ public:
+  void initialize(const std::vector<std::string>& args) override;
+  int run() override;
+
+  /// Asks a running run() to stop after the current frame (signal handlers call this).
+  static void requestStop();
+
+  const std::string& outputDir() const { return out_dir_; }
+
+ private:
+  std::string config_path_, input_path_, out_dir_;
+  std::vector<std::string> overrides_;
+  static std::atomic<bool> stop_requested_;
+};
+
+}  // namespace gmc::apps

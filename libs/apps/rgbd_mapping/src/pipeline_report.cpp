@@ -1,0 +1,102 @@
+#include "gmc/apps/pipeline_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace gmc::apps {
+
+Percentiles Percentiles::of(std::vector<double> v) {
+  Percentiles p;
+  if (v.empty()) return p;
+  std::sort(v.begin(), v.end());
+  auto at = [&](double q) {
+    const double pos = q * static_cast<double>(v.size() - 1);
+    const size_t lo = static_cast<size_t>(std::floor(pos));
+    const size_t hi = std::min(lo + 1, v.size() - 1);
+    return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+  };
+  p.median = at(0.5);
+  p.p95 = at(0.95);
+  return p;
+}
+
+void PipelineReport::addFrame(const vo::FrameTracking& t, double map_insert_ms, double pipeline_ms) {
+  ++frames;
+  if (t.tracked()) ++tracked;
+  if (t.state == vo::TrackingState::Lost) ++lost;
+  if (t.state == vo::TrackingState::Reanchored) ++reanchored, ++lost;
+  if (t.new_keyframe) ++keyframes;
+  static_matches += static_cast<size_t>(t.num_static);
+  dynamic_matches += static_cast<size_t>(t.num_dynamic);
+  frontend_ms.push_back(t.times.frontend);
+  guess_ms.push_back(t.times.guess);
+  gmc_ms.push_back(t.times.gmc);
+  refine_ms.push_back(t.times.refine);
+  odometry_ms.push_back(t.times.total);
+  if (map_insert_ms > 0) {
+    map_ms.push_back(map_insert_ms);
+    ++map_inserts;
+  }
+  total_ms.push_back(pipeline_ms);
+}
+
+namespace {
+void stage(std::ostringstream& os, const char* name, const std::vector<double>& v, bool last = false) {
+  const auto p = Percentiles::of(v);
+  os << "    \"" << name << "\": {\"median\": " << p.median << ", \"p95\": " << p.p95 << "}"
+     << (last ? "\n" : ",\n");
+}
+}  // namespace
+
+std::string PipelineReport::toJson() const {
+  std::ostringstream os;
+  os << std::setprecision(6);
+  os << "{\n";
+  os << "  \"frames\": " << frames << ",\n  \"tracked\": " << tracked << ",\n  \"lost\": " << lost
+     << ",\n  \"reanchored\": " << reanchored << ",\n  \"dropped\": " << dropped
+     << ",\n  \"skipped\": " << skipped << ",\n  \"keyframes\": " << keyframes
+     << ",\n  \"map_inserts\": " << map_inserts << ",\n  \"interrupted\": "
+     << (interrupted ? "true" : "false") << ",\n  \"wall_seconds\": " << wall_seconds
+     << ",\n  \"fps\": " << (wall_seconds > 0 ? frames / wall_seconds : 0.0)
+     << ",\n  \"static_matches\": " << static_matches << ",\n  \"dynamic_matches\": "
+     << dynamic_matches << ",\n";
+  os << "  \"ms\": {\n";
+  stage(os, "frontend", frontend_ms);
+  stage(os, "guess", guess_ms);
+  stage(os, "gmc", gmc_ms);
+  stage(os, "refinement", refine_ms);
+  stage(os, "odometry", odometry_ms);
+  stage(os, "mapping", map_ms);
+  stage(os, "total", total_ms, true);
+  os << "  }";
+  if (has_map) os << ",\n  \"map\": " << mapping::toJson(map);
+  os << "\n}\n";
+  return os.str();
+}
+
+std::string PipelineReport::toText() const {
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(2);
+  os << "frames " << frames << "  tracked " << tracked << "  lost " << lost << "  dropped "
+     << dropped << "  skipped " << skipped << "  keyframes " << keyframes
+     << (interrupted ? "  (interrupted)" : "") << "\n";
+  auto line = [&](const char* name, const std::vector<double>& v) {
+    const auto p = Percentiles::of(v);
+    os << "  " << std::left << std::setw(11) << name << std::right << std::setw(8) << p.median
+       << " ms median " << std::setw(8) << p.p95 << " ms p95\n";
+  };
+  line("frontend", frontend_ms);
+  line("guess", guess_ms);
+  line("gmc", gmc_ms);
+  line("refinement", refine_ms);
+  line("odometry", odometry_ms);
+  line("mapping", map_ms);
+  line("total", total_ms);
+  os << "  " << (wall_seconds > 0 ? frames / wall_seconds : 0.0) << " frames/s overall\n";
+  if (has_map) os << "  map: " << mapping::toText(map) << "\n";
+  return os.str();
+}
+
+}  // namespace gmc::apps

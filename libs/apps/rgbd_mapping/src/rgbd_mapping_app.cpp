@@ -1,0 +1,256 @@
+#include "gmc/apps/rgbd_mapping_app.h"
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <thread>
+#include <unistd.h>
+
+#include "gmc/apps/pipeline_report.h"
+#include "gmc/config/ini.h"
+#include "gmc/datasets/atomic_file.h"
+#include "gmc/datasets/camera.h"
+#include "gmc/datasets/rawlog.h"
+#include "gmc/datasets/source.h"
+#include "gmc/datasets/tum.h"
+#include "gmc/filters/filter.h"
+#include "gmc/mapping/static_map.h"
+
+namespace gmc::apps {
+
+std::atomic<bool> RgbdMappingApp::stop_requested_{false};
+
+void RgbdMappingApp::requestStop() { stop_requested_ = true; }
+
+namespace {
+
+const char* kUsage =
+    "usage: gmc-rgbd-mapping <config.ini> <input.rawlog|tum_dir> --out DIR "
+    "[--set Section.key=value ...]";
+
+void onSignal(int) { RgbdMappingApp::requestStop(); }
+
+/// Draws keypoints coloured by label and the dynamic GMC cells over the image.
+cv::Mat drawOverlay(const datasets::RgbdFrame& frame, const vo::FrameTracking& t,
+                    const cv::Mat& mask) {
+  cv::Mat img = frame.rgb.clone();
+  if (img.channels() == 1) cv::cvtColor(img, img, cv::COLOR_GRAY2BGR);
+  if (!mask.empty()) {
+    cv::Mat red(img.size(), CV_8UC3, cv::Scalar(0, 0, 255));
+    cv::Mat blended;
+    cv::addWeighted(img, 0.6, red, 0.4, 0, blended);
+    blended.copyTo(img, mask);
+  }
+  for (const auto& cell : t.gmc.cells) {
+    if (cell.cluster < 0 || cell.cluster == t.gmc.static_cluster) continue;
+    cv::rectangle(img, cv::Rect(cell.x0, cell.y0, cell.x1 - cell.x0, cell.y1 - cell.y0),
+                  cv::Scalar(0, 200, 255), 1);
+  }
+  for (size_t i = 0; i < t.keypoints.size(); ++i) {
+    const auto label = t.keypoint_labels[i];
+    const cv::Scalar colour = label == MotionLabel::Static    ? cv::Scalar(0, 220, 0)
+                              : label == MotionLabel::Dynamic ? cv::Scalar(0, 0, 255)
+                                                              : cv::Scalar(160, 160, 160);
+    cv::circle(img, t.keypoints[i], 3, colour, label == MotionLabel::Undecided ? 1 : cv::FILLED);
+  }
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(6) << frame.stamp << "  " << vo::toString(t.state)
+       << "  static " << t.num_static << "  dynamic " << t.num_dynamic;
+  cv::putText(img, text.str(), {8, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(255, 255, 255), 2);
+  cv::putText(img, text.str(), {8, 20}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1);
+  return img;
+}
+
+gmc::PinholeCamera cameraFromOptions(const DatasetOptions& o) {
+  if (o.camera == "custom") {
+    gmc::PinholeCamera c;
+    c.fx = o.fx;
+    c.fy = o.fy;
+    c.cx = o.cx;
+    c.cy = o.cy;
+    return c;
+  }
+  return datasets::cameraPreset(o.camera);
+}
+
+}  // namespace
+
+void RgbdMappingApp::initialize(const std::vector<std::string>& args) {
+  std::vector<std::string> positional;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "--out" || a == "--set") {
+      if (i + 1 >= args.size()) throw AppError(a + " needs a value\n" + kUsage, 2);
+      (a == "--out" ? out_dir_ : overrides_.emplace_back()) = args[++i];
+    } else if (a == "-h" || a == "--help") {
+      throw AppError(kUsage, 2);
+    } else if (!a.empty() && a[0] == '-') {
+      throw AppError("unknown option " + a + "\n" + kUsage, 2);
+    } else {
+      positional.push_back(a);
+    }
+  }
+  if (positional.size() != 2 || out_dir_.empty()) throw AppError(kUsage, 2);
+  config_path_ = positional[0];
+  input_path_ = positional[1];
+}
+
+int RgbdMappingApp::run() {
+  namespace fs = std::filesystem;
+  stop_requested_ = false;
+  // --- configuration (strict: every section we own is checked)
+  auto ini = cfg::loadIniFile(config_path_);
+  cfg::applyOverrides(ini, overrides_);
+  DatasetOptions dataset;
+  PlaybackOptions playback;
+  OutputOptions output;
+  mapping::StaticMapOptions map_options;
+  cfg::loadSection(ini, "Dataset", dataset, config_path_);
+  cfg::loadSection(ini, "Playback", playback, config_path_);
+  cfg::loadSection(ini, "Output", output, config_path_);
+  cfg::loadSection(ini, "Mapping", map_options, config_path_);
+  filters::FilterChain chain = filters::buildChain(ini, config_path_);
+  const auto unknown = cfg::unknownSections(
+      ini, {"Dataset", "Playback", "Output", "Mapping", "Filters", "GmcFilter", "Frontend", "GMS",
+            "GMC", "Odometry", "Refinement", "DynamicMask", "DepthRange", "Decimate"});
+  if (!unknown.empty()) throw AppError(config_path_ + ": unknown section [" + unknown.front() + "]");
+
+  const gmc::PinholeCamera camera = cameraFromOptions(dataset);
+  std::unique_ptr<datasets::RgbdSource> source = datasets::openRgbdSource(input_path_, camera);
+
+  // Ground truth, to anchor the first pose (maps comparable with a simulated scene).
+  std::string gt_path = dataset.groundtruth;
+  if (gt_path == "auto") {
+    gt_path = (fs::path(input_path_) / "groundtruth.txt").string();
+    if (!fs::is_directory(input_path_) || !fs::exists(gt_path)) gt_path.clear();
+  }
+  std::vector<datasets::StampedPose> groundtruth;
+  if (!gt_path.empty()) groundtruth = datasets::readTumTrajectory(gt_path);
+  if (dataset.anchor_to_groundtruth && groundtruth.empty())
+    throw AppError(config_path_ + ": [Dataset] anchor_to_groundtruth needs a groundtruth file");
+
+  fs::create_directories(out_dir_);
+  std::unique_ptr<mapping::StaticMapBuilder> map;
+  if (output.map) map = std::make_unique<mapping::StaticMapBuilder>(map_options);
+  std::unique_ptr<datasets::RawlogWriter> filtered;
+  if (output.filtered_rawlog)
+    filtered = std::make_unique<datasets::RawlogWriter>((fs::path(out_dir_) / "filtered.rawlog").string());
+  if (output.overlay_every > 0) fs::create_directories(fs::path(out_dir_) / "overlays");
+
+  auto old_int = std::signal(SIGINT, onSignal);
+  auto old_term = std::signal(SIGTERM, onSignal);
+
+  PipelineReport report;
+  std::vector<datasets::StampedPose> trajectory;
+  Isometry T_anchor = Isometry::Identity();
+  const bool tty = playback.progress && isatty(fileno(stderr));
+  const size_t total_hint = source->sizeHint();
+  const auto wall_start = std::chrono::steady_clock::now();
+  double first_stamp = -1;
+  size_t index = 0, inserted_candidates = 0;
+  datasets::RgbdFrame frame;
+  while (!stop_requested_) {
+    bool have = false;
+    try {
+      have = source->next(frame);
+    } catch (const datasets::FrameReadError& e) {
+      std::cerr << "gmc-rgbd-mapping: warning: skipping " << e.what() << "\n";
+      ++report.skipped;
+      continue;
+    }
+    if (!have) break;
+    const size_t this_index = index++;
+    if (static_cast<int>(this_index) < dataset.first_frame) continue;
+    if (dataset.max_frames > 0 && report.frames >= static_cast<size_t>(dataset.max_frames)) break;
+
+    // Realtime playback: frames whose time has passed while we were busy are dropped.
+    if (playback.mode == "realtime") {
+      if (first_stamp < 0) first_stamp = frame.stamp;
+      const double due = (frame.stamp - first_stamp) / playback.rate;
+      const double now = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      if (now > due + 1.0 / 30.0 && report.frames > 0) {
+        ++report.dropped;
+        continue;
+      }
+      if (now < due) std::this_thread::sleep_for(std::chrono::duration<double>(due - now));
+    }
+
+    const auto t0 = std::chrono::steady_clock::now();
+    auto obs = datasets::toObservation(frame);
+    filters::FilterContext ctx;
+    ctx.frame_index = this_index;
+    if (!filters::applyChain(chain, *obs, ctx)) continue;  // decimated
+    if (!ctx.tracking)
+      throw AppError(config_path_ + ": [Filters] chain must contain the gmc filter (it tracks the camera)");
+    vo::FrameTracking& tracking = *ctx.tracking;
+    if (report.frames == 0 && dataset.anchor_to_groundtruth) {
+      const auto gt = datasets::interpolatePose(groundtruth, frame.stamp);
+      if (!gt) throw AppError(gt_path + ": no ground-truth pose near the first frame");
+      T_anchor = *gt * tracking.T_world_camera.inverse();
+    }
+    const Isometry T_world_camera = T_anchor * tracking.T_world_camera;
+    trajectory.push_back({frame.stamp, T_world_camera});
+
+    double map_ms = 0;
+    if (map && tracking.tracked() && (inserted_candidates++ % output.map_insert_every) == 0) {
+      const auto tm = std::chrono::steady_clock::now();
+      map->insertFrame(frame, ctx.dynamic_mask, T_world_camera);
+      map_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tm).count();
+    }
+    if (filtered) filtered->write(*obs);
+    if (output.overlay_every > 0 && report.frames % output.overlay_every == 0) {
+      std::ostringstream name;
+      name << std::fixed << std::setprecision(6) << frame.stamp << ".png";
+      datasets::writeImageAtomic((fs::path(out_dir_) / "overlays" / name.str()).string(),
+                                 drawOverlay(frame, tracking, ctx.dynamic_mask));
+    }
+    const double pipeline_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    report.addFrame(tracking, map_ms, pipeline_ms);
+    if (tracking.state == vo::TrackingState::Lost)
+      std::cerr << "gmc-rgbd-mapping: frame " << this_index << " (" << frame.name
+                << ") lost: " << tracking.lost_reason << "\n";
+
+    if (tty) {
+      const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      const double fps = report.frames / std::max(el, 1e-9);
+      std::fprintf(stderr, "\rframe %zu", this_index + 1);
+      if (total_hint) std::fprintf(stderr, "/%zu", total_hint);
+      std::fprintf(stderr, "  %.1f fps", fps);
+      if (total_hint && fps > 0)
+        std::fprintf(stderr, "  ETA %.0f s", (static_cast<double>(total_hint) - this_index - 1) / fps);
+      std::fprintf(stderr, "  %s   ", vo::toString(tracking.state));
+    }
+  }
+  if (tty) std::fprintf(stderr, "\n");
+  std::signal(SIGINT, old_int);
+  std::signal(SIGTERM, old_term);
+  report.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  report.interrupted = stop_requested_;
+
+  // --- outputs, each written to a temporary name and renamed when complete
+  datasets::writeTumTrajectory((fs::path(out_dir_) / "trajectory_tum.txt").string(), trajectory);
+  if (map) {
+    map->writeBinary((fs::path(out_dir_) / "map.bt").string());
+    report.map = map->stats();
+    report.has_map = true;
+  }
+  if (filtered) filtered->close();
+  datasets::writeTextAtomic((fs::path(out_dir_) / "summary.json").string(), report.toJson());
+  std::cout << report.toText();
+  if (report.frames == 0) throw AppError(input_path_ + ": no frame could be processed");
+  return 0;
+}
+
+}  // namespace gmc::apps

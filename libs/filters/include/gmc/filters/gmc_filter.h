@@ -1,0 +1,75 @@
+#pragma once
+// The GMC observation filter: tracks the camera (frontend, initial guess, GMC,
+// refinement on static matches), labels dynamic pixels and optionally removes their
+// depth, so any MRPT map built from the filtered rawlog ignores walkers.
+#include "gmc/filters/filter.h"
+#include "gmc/vo/dynamic_mask.h"
+
+namespace gmc::filters {
+
+/// INI section [GmcFilter].
+struct GmcFilterOptions {
+  bool write_pixel_labels = true;   ///< pixelLabels with a label named "dynamic"
+  bool zero_dynamic_depth = false;  ///< set dynamic pixels' range to 0 (no reading)
+
+  template <class V>
+  void visit(V& v) {
+    v("write_pixel_labels", write_pixel_labels, "write MRPT pixelLabels with label 'dynamic'");
+    v("zero_dynamic_depth", zero_dynamic_depth, "remove the depth of dynamic pixels");
+  }
+};
+
+class GmcFilter : public ObservationFilter {
+ public:
+  std::string name() const override { return "gmc"; }
+  /// Reads [GmcFilter], [Frontend], [GMS], [GMC], [Odometry], [Refinement], [DynamicMask].
+  void initialize(const mrpt::config::CConfigFileBase& ini, const std::string& source) override;
+  bool filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& context) override;
+
+  const vo::OdometryConfig& odometryConfig() const { return odometry_config_; }
+
+ private:
+  GmcFilterOptions options_;
+  vo::OdometryConfig odometry_config_;
+  vo::DynamicMaskOptions mask_options_;
+  std::unique_ptr<vo::RgbdOdometry> odometry_;
+};
+
+/// INI section [DepthRange]: readings outside [min_depth, max_depth] become "no reading".
+class DepthRangeFilter : public ObservationFilter {
+ public:
+  struct Options {
+    double min_depth = 0.3;
+    double max_depth = 5.0;
+    template <class V>
+    void visit(V& v) {
+      v("min_depth", min_depth, 0.0, 1000.0, "m, closer readings are removed");
+      v("max_depth", max_depth, 0.0, 1000.0, "m, farther readings are removed");
+    }
+  };
+  std::string name() const override { return "depth_range"; }
+  void initialize(const mrpt::config::CConfigFileBase& ini, const std::string& source) override;
+  bool filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& context) override;
+
+ private:
+  Options options_;
+};
+
+/// INI section [Decimate]: keeps one observation in every `keep_every`.
+class DecimateFilter : public ObservationFilter {
+ public:
+  struct Options {
+    int keep_every = 1;
+    template <class V>
+    void visit(V& v) { v("keep_every", keep_every, 1, 1000000, "keep one frame in every N"); }
+  };
+  std::string name() const override { return "decimate"; }
+  void initialize(const mrpt::config::CConfigFileBase& ini, const std::string& source) override;
+  bool filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& context) override;
+
+ private:
+  Options options_;
+  std::size_t seen_ = 0;
+};
+
+}  // namespace gmc::filters
