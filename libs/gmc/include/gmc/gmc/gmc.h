@@ -27,10 +27,10 @@ struct GmcParams {
   double min_matches_per_cell = 4.0;  ///< coarsen the grid below this mean density (0 = fixed)
   double alpha = 100.0;        ///< Eq. (3): e = alpha * r / z (r in m, z = depth in m)
   double z_depth_power = 2.0;  ///< e_z = alpha * r_z / z^power (Kinect depth noise ~ z^2)
-  double e_int_x = 0.5;        ///< pattern interval along x (units of e)
-  double e_int_z = 0.5;        ///< pattern interval along z (units of e)
+  double e_int_x = 1.0;        ///< pattern interval along x (units of e)
+  double e_int_z = 1.0;        ///< pattern interval along z (units of e)
   bool use_y = false;          ///< third pattern axis (vertical motion)
-  double e_int_y = 0.5;        ///< pattern interval along y when use_y
+  double e_int_y = 1.0;        ///< pattern interval along y when use_y
   double p_min = 0.6;          ///< quadtree: split while winner < p_min * n_i ...
   int n_min = 8;               ///< ... and n_i > n_min
   int max_depth = 2;           ///< quadtree levels below a grid cell

@@ -18,8 +18,8 @@ struct OdometryOptions {
   int min_matches = 30;                 ///< fewer guided matches: retry with a wider window
   int wide_match_radius = 100;          ///< px, second attempt of guided matching
   int ransac_iterations = 150;          ///< 3-point 3-D/3-D hypotheses per frame
-  double inlier_base = 0.02;            ///< m, 3-D inlier threshold at 0 m ...
-  double inlier_per_m2 = 0.006;         ///< ... plus this times depth^2 (Kinect noise)
+  double inlier_base = 0.005;           ///< m, 3-D inlier threshold at 0 m ...
+  double inlier_per_m2 = 0.002;         ///< ... plus this times depth^2 (Kinect noise)
   double prediction_support = 0.5;      ///< keep the motion prediction while its support is
                                         ///< at least this fraction of RANSAC's best
   bool use_motion_model = true;         ///< constant-velocity prediction
