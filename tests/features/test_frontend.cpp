@@ -88,7 +88,7 @@ TEST(Frontend, GuidedAndExhaustiveMatchingRecoverAShift) {
     int correct = 0;
     for (const auto& m : matches) {
       const auto d = ref.keypoints[static_cast<size_t>(m.ref)].pt -
-                     cur.keypoints[static_cast<size_t>(m.cur)].pt - cv::Point2f(-6, 4);
+                     cur.keypoints[static_cast<size_t>(m.cur)].pt - cv::Point2f(6, -4);
       correct += (std::abs(d.x) < 0.6f && std::abs(d.y) < 0.6f);
     }
     EXPECT_GT(correct, 0.97 * matches.size()) << "pass " << pass;
