@@ -1,0 +1,90 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "gmc/datasets/evaluation.h"
+#include "test_data.h"
+
+namespace {
+
+using namespace gmc::datasets;
+
+std::vector<StampedPose> circle(int n, double period) {
+  std::vector<StampedPose> t;
+  for (int i = 0; i < n; ++i) {
+    StampedPose p;
+    p.stamp = 100.0 + i / 30.0;
+    const double a = 2 * M_PI * i / (30.0 * period);
+    p.pose.translation() = Eigen::Vector3d(std::cos(a), std::sin(a), 0.1 * a);
+    p.pose.linear() = Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    t.push_back(p);
+  }
+  return t;
+}
+
+TEST(Ate, ReproducesTheTumBenchmarkOnDynaSlam) {
+  GMC_REQUIRE_DATA(dir, "tum_fr3_walking_xyz_reference");
+  const auto ate = computeAte(readTumTrajectory(dir + "/groundtruth.txt"),
+                              readTumTrajectory(dir + "/dynaslam_trajectory.txt"));
+  EXPECT_EQ(ate.pairs, 757u);
+  EXPECT_NEAR(ate.error.rmse, 0.016314, 1e-5);
+}
+
+TEST(Ate, RigidlyMovedEstimateHasZeroError) {
+  const auto gt = circle(200, 4);
+  auto est = gt;
+  gmc::Isometry T = gmc::Isometry::Identity();
+  T.linear() = Eigen::AngleAxisd(1.0, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(5, -2, 1);
+  for (auto& p : est) p.pose = T * p.pose, p.stamp += 0.005;
+  const auto ate = computeAte(gt, est);
+  EXPECT_EQ(ate.pairs, 200u);
+  EXPECT_LT(ate.error.rmse, 1e-9);
+  const auto rpe = computeRpe(gt, est, 1.0);
+  EXPECT_GT(rpe.pairs, 100u);
+  EXPECT_LT(rpe.translation.rmse, 1e-9);
+  EXPECT_LT(rpe.rotation.rmse, 1e-6);
+}
+
+TEST(Ate, KnownOffsetGivesKnownError) {
+  const auto gt = circle(300, 5);
+  auto est = gt;
+  // Alternate +-1 cm along z: alignment cannot remove it, RMSE is 1 cm.
+  for (size_t i = 0; i < est.size(); ++i) est[i].pose.translation().z() += (i % 2 ? 0.01 : -0.01);
+  const auto ate = computeAte(gt, est);
+  EXPECT_NEAR(ate.error.rmse, 0.01, 2e-4);
+  EXPECT_NEAR(ate.error.median, 0.01, 2e-4);
+}
+
+TEST(Rpe, ConstantDriftPerSecond) {
+  const auto gt = circle(301, 1e9);  // (almost) still, 10 s
+  auto est = gt;
+  for (size_t i = 0; i < est.size(); ++i) est[i].pose.translation().x() += 0.02 * (est[i].stamp - 100.0);
+  const auto rpe = computeRpe(gt, est, 1.0);
+  EXPECT_NEAR(rpe.translation.rmse, 0.02, 1e-3);  // 2 cm per second
+  EXPECT_NEAR(rpe.translation.median, 0.02, 1e-3);
+}
+
+TEST(Ate, TooFewPairsGiveNoResult) {
+  const auto gt = circle(10, 4);
+  auto est = gt;
+  for (auto& p : est) p.stamp += 1.0;  // no stamp within 0.02 s
+  EXPECT_EQ(computeAte(gt, est).pairs, 0u);
+}
+
+TEST(Json, HasTheDocumentedKeys) {
+  const auto gt = circle(100, 4);
+  const std::string j = evaluationJson(computeAte(gt, gt), computeRpe(gt, gt));
+  for (const char* key : {"\"ate\"", "\"rmse\"", "\"median\"", "\"pairs\"", "\"rpe\"",
+                          "\"trans_rmse\"", "\"rot_rmse\""})
+    EXPECT_NE(j.find(key), std::string::npos) << key;
+}
+
+TEST(Plot, DrawsSomething) {
+  const auto gt = circle(100, 4);
+  const cv::Mat img = plotTrajectory(computeAte(gt, gt), "t");
+  ASSERT_FALSE(img.empty());
+  EXPECT_LT(cv::mean(img)[0], 254.0);  // not blank
+}
+
+}  // namespace
