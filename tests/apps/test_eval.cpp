@@ -1,0 +1,52 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "gmc/apps/eval_app.h"
+#include "test_data.h"
+
+namespace {
+
+std::string slurp(const std::string& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+int runEval(const std::vector<std::string>& args) {
+  std::vector<std::string> argv_s = {"gmc-eval"};
+  argv_s.insert(argv_s.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& s : argv_s) argv.push_back(s.data());
+  gmc::apps::EvalApp app;
+  return gmc::apps::runMain(app, "gmc-eval", static_cast<int>(argv.size()), argv.data());
+}
+
+TEST(EvalApp, ReferenceTrajectoryJsonAndPlot) {
+  GMC_REQUIRE_DATA(dir, "tum_fr3_walking_xyz_reference");
+  const auto out = gmc::testdata::scratchDir("eval_app");
+  ASSERT_EQ(runEval({"--gt", dir + "/groundtruth.txt", "--est", dir + "/dynaslam_trajectory.txt",
+                     "--json", out + "/e.json", "--plot", out + "/e.png"}),
+            0);
+  const std::string json = slurp(out + "/e.json");
+  EXPECT_NE(json.find("\"pairs\": 757"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"rmse\": 0.01631"), std::string::npos) << json;
+  EXPECT_GT(std::filesystem::file_size(out + "/e.png"), 1000u);
+}
+
+TEST(EvalApp, BadArgumentsAndFilesFail) {
+  EXPECT_EQ(runEval({}), 2);
+  EXPECT_EQ(runEval({"--gt", "a"}), 2);
+  EXPECT_EQ(runEval({"--gt", "a", "--est", "b", "--bogus", "c"}), 2);
+  EXPECT_EQ(runEval({"--gt", "/nonexistent/gt.txt", "--est", "/nonexistent/est.txt"}), 1);
+  const auto out = gmc::testdata::scratchDir("eval_app_bad");
+  std::ofstream(out + "/gt.txt") << "1.0 0 0 0 0 0 0 1\n1.1 0 0 0 0 0 0 1\n1.2 0 0 0 0 0 0 1\n";
+  std::ofstream(out + "/est.txt") << "5.0 0 0 0 0 0 0 1\n";
+  EXPECT_EQ(runEval({"--gt", out + "/gt.txt", "--est", out + "/est.txt", "--json", out + "/x.json"}), 1);
+  EXPECT_FALSE(std::filesystem::exists(out + "/x.json"));
+}
+
+}  // namespace

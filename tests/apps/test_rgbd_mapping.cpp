@@ -1,0 +1,112 @@
+#include <gtest/gtest.h>
+
+#include <octomap/OcTree.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "gmc/apps/rgbd_mapping_app.h"
+#include "gmc/datasets/evaluation.h"
+#include "test_data.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+int runMapping(std::vector<std::string> args) {
+  args.insert(args.begin(), "gmc-rgbd-mapping");
+  std::vector<char*> argv;
+  for (auto& s : args) argv.push_back(s.data());
+  gmc::apps::RgbdMappingApp app;
+  return gmc::apps::runMain(app, "gmc-rgbd-mapping", static_cast<int>(argv.size()), argv.data());
+}
+
+/// A TUM-layout sequence of a textured wall 2 m in front of a camera that slides 1 cm per
+/// frame along x (fr3 intrinsics): exact ground truth without the simulator.
+std::string makeWallSequence(const std::string& dir, int frames) {
+  fs::create_directories(dir + "/rgb");
+  fs::create_directories(dir + "/depth");
+  std::mt19937 rng(5);
+  cv::Mat texture(560, 900, CV_8UC3, cv::Scalar(120, 120, 120));
+  std::uniform_int_distribution<int> x(0, 880), y(0, 540), s(4, 28), c(0, 255);
+  for (int k = 0; k < 2500; ++k)
+    cv::rectangle(texture, cv::Rect(x(rng), y(rng), s(rng), s(rng)),
+                  cv::Scalar(c(rng), c(rng), c(rng)), cv::FILLED);
+  const double fx = 535.4, z = 2.0, step = 0.01;
+  std::ofstream rgb(dir + "/rgb.txt"), depth(dir + "/depth.txt"), gt(dir + "/groundtruth.txt");
+  const cv::Mat depth_img(480, 640, CV_16UC1, cv::Scalar(static_cast<int>(z * 5000)));
+  for (int i = 0; i < frames; ++i) {
+    const double shift = 20 + fx * step * i / z;  // camera +x: the wall moves left in the image
+    const cv::Mat M = (cv::Mat_<double>(2, 3) << 1, 0, -shift, 0, 1, -40);
+    cv::Mat view;
+    cv::warpAffine(texture, view, M, cv::Size(640, 480), cv::INTER_LINEAR);
+    char stamp[32];
+    std::snprintf(stamp, sizeof stamp, "%.6f", 1000.0 + i / 30.0);
+    cv::imwrite(dir + "/rgb/" + stamp + ".png", view);
+    cv::imwrite(dir + "/depth/" + stamp + ".png", depth_img);
+    rgb << stamp << " rgb/" << stamp << ".png\n";
+    depth << stamp << " depth/" << stamp << ".png\n";
+    gt << stamp << " " << step * i << " 0 0 0 0 0 1\n";
+  }
+  return dir;
+}
+
+TEST(RgbdMappingApp, WallSequenceEndToEnd) {
+  const auto root = gmc::testdata::scratchDir("mapping_wall");
+  const auto seq = makeWallSequence(root + "/seq", 40);
+  const auto out = root + "/out";
+  ASSERT_EQ(runMapping({GMC_SOURCE_DIR "/config/default.ini", seq, "--out", out, "--set",
+                        "Dataset.anchor_to_groundtruth=true", "--set", "Output.overlay_every=20"}),
+            0);
+  const auto est = gmc::datasets::readTumTrajectory(out + "/trajectory_tum.txt");
+  const auto gt = gmc::datasets::readTumTrajectory(seq + "/groundtruth.txt");
+  ASSERT_EQ(est.size(), 40u);
+  const auto ate = gmc::datasets::computeAte(gt, est);
+  std::printf("  wall sequence: ATE %.4f m over %zu frames\n", ate.error.rmse, ate.pairs);
+  EXPECT_LT(ate.error.rmse, 0.005);
+  // Anchored at ground truth, so the end position itself is right (no alignment needed).
+  EXPECT_NEAR(est.back().pose.translation().x(), 0.39, 0.01);
+
+  octomap::OcTree tree(out + "/map.bt");
+  size_t occupied = 0;
+  for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) occupied += tree.isNodeOccupied(*it);
+  EXPECT_GT(occupied, 100u);
+  EXPECT_TRUE(fs::exists(out + "/summary.json"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(out + "/overlays"), fs::directory_iterator{}), 2);
+}
+
+TEST(RgbdMappingApp, TeddyStaysAccurateWithGmc) {
+  GMC_REQUIRE_DATA(dir, "tum_fr3_teddy_1_100");
+  const auto out = gmc::testdata::scratchDir("mapping_teddy");
+  ASSERT_EQ(runMapping({GMC_SOURCE_DIR "/config/tum_fr3.ini", dir, "--out", out, "--set",
+                        "Output.map=false"}),
+            0);
+  const auto ate = gmc::datasets::computeAte(gmc::datasets::readTumTrajectory(dir + "/groundtruth.txt"),
+                                             gmc::datasets::readTumTrajectory(out + "/trajectory_tum.txt"));
+  std::printf("  teddy (100 frames): ATE %.4f m\n", ate.error.rmse);
+  EXPECT_GE(ate.pairs, 95u);  // 96 of the 100 RGB stamps have ground truth within 0.02 s
+  EXPECT_LT(ate.error.rmse, 0.01);
+}
+
+TEST(RgbdMappingApp, ConfigurationErrorsFailWithoutOutputs) {
+  const auto root = gmc::testdata::scratchDir("mapping_bad");
+  const auto seq = makeWallSequence(root + "/seq", 3);
+  auto ini = [&](const std::string& name, const std::string& text) {
+    std::ofstream(root + "/" + name) << text;
+    return root + "/" + name;
+  };
+  EXPECT_EQ(runMapping({ini("a.ini", "[GMC]\ngrid_colz = 3\n"), seq, "--out", root + "/o1"}), 1);
+  EXPECT_EQ(runMapping({ini("b.ini", "[GMC]\np_min = 1.5\n"), seq, "--out", root + "/o2"}), 1);
+  EXPECT_EQ(runMapping({ini("c.ini", "[Nonsense]\nx = 1\n"), seq, "--out", root + "/o3"}), 1);
+  EXPECT_EQ(runMapping({ini("d.ini", "[Filters]\nchain = gmc, blur\n"), seq, "--out", root + "/o4"}), 1);
+  EXPECT_EQ(runMapping({ini("e.ini", ""), root + "/missing", "--out", root + "/o5"}), 1);
+  EXPECT_EQ(runMapping({root + "/missing.ini", seq, "--out", root + "/o6"}), 1);
+  EXPECT_EQ(runMapping({ini("f.ini", ""), seq}), 2);  // no --out
+  for (int i = 1; i <= 6; ++i) EXPECT_FALSE(fs::exists(root + "/o" + std::to_string(i) + "/trajectory_tum.txt"));
+}
+
+}  // namespace

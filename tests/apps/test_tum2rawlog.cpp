@@ -1,0 +1,95 @@
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <cstdio>
+#include <filesystem>
+
+#include "gmc/apps/tum2rawlog_app.h"
+#include "gmc/datasets/source.h"
+#include "gmc/datasets/tum.h"
+#include "test_data.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+int runConvert(std::vector<std::string> args) {
+  args.insert(args.begin(), "gmc-tum2rawlog");
+  std::vector<char*> argv;
+  for (auto& s : args) argv.push_back(s.data());
+  gmc::apps::Tum2RawlogApp app;
+  return gmc::apps::runMain(app, "gmc-tum2rawlog", static_cast<int>(argv.size()), argv.data());
+}
+
+std::string runCommand(const std::string& cmd, int& status) {
+  std::string out;
+  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+  char buf[512];
+  while (p && fgets(buf, sizeof buf, p)) out += buf;
+  status = p ? pclose(p) : -1;
+  return out;
+}
+
+void convertAndCheck(const std::string& dir, const char* preset, size_t expected) {
+  const auto out = gmc::testdata::scratchDir(std::string("tum2rawlog_") + preset);
+  const std::string rawlog = out + "/seq.rawlog";
+  ASSERT_EQ(runConvert({dir, rawlog, "--camera", preset}), 0);
+  EXPECT_TRUE(fs::exists(out + "/seq_groundtruth.txt"));
+
+  // MRPT's own tool reads it.
+  if (fs::exists("/usr/bin/rawlog-edit")) {
+    int status = 0;
+    const std::string info = runCommand("/usr/bin/rawlog-edit --info -i " + rawlog, status);
+    EXPECT_EQ(status, 0) << info;
+    EXPECT_NE(info.find("Overall number of objects         : " + std::to_string(expected)),
+              std::string::npos)
+        << info;
+  }
+  // Same frames back, depth in metres = PNG value / 5000 at sampled pixels.
+  auto src = gmc::datasets::openRgbdSource(rawlog, {});
+  const auto depth_list = gmc::datasets::readTumList(dir + "/depth.txt");
+  gmc::datasets::RgbdFrame f;
+  size_t n = 0;
+  while (src->next(f)) {
+    if (n == 0) {
+      // The first RGB frame's depth partner is the nearest depth stamp.
+      size_t best = 0;
+      for (size_t k = 1; k < depth_list.size(); ++k)
+        if (std::abs(depth_list[k].stamp - f.stamp) < std::abs(depth_list[best].stamp - f.stamp)) best = k;
+      const cv::Mat png = cv::imread(dir + "/" + depth_list[best].path, cv::IMREAD_ANYDEPTH);
+      // Raw values are copied exactly; MRPT keeps rangeUnits as a float, so metres match
+      // PNG/5000 to float precision.
+      for (auto [u, v] : {std::pair{50, 60}, {320, 240}, {600, 450}}) {
+        EXPECT_EQ(f.depth.at<std::uint16_t>(v, u), png.at<std::uint16_t>(v, u));
+        EXPECT_NEAR(f.depthAt(u, v), png.at<std::uint16_t>(v, u) / 5000.0, 1e-6);
+      }
+    }
+    ++n;
+  }
+  EXPECT_EQ(n, expected);
+  fs::remove_all(out);
+}
+
+TEST(Tum2Rawlog, BonnCrowd) {
+  GMC_REQUIRE_DATA(dir, "bonn_crowd_240_389");
+  convertAndCheck(dir, "bonn", 150);
+}
+
+TEST(Tum2Rawlog, TumTeddy) {
+  GMC_REQUIRE_DATA(dir, "tum_fr3_teddy_1_100");
+  convertAndCheck(dir, "fr3", 100);
+}
+
+TEST(Tum2Rawlog, BadArguments) {
+  EXPECT_EQ(runConvert({}), 2);
+  EXPECT_EQ(runConvert({"a", "b", "--camera"}), 2);
+  EXPECT_EQ(runConvert({"a", "b", "--frobnicate"}), 2);
+  const auto out = gmc::testdata::scratchDir("tum2rawlog_bad");
+  EXPECT_EQ(runConvert({out, out + "/x.rawlog", "--camera", "fr9"}), 2);
+  EXPECT_EQ(runConvert({out + "/missing", out + "/x.rawlog"}), 1);
+  EXPECT_EQ(runConvert({out, out + "/x.rawlog"}), 1);  // no rgb.txt
+  EXPECT_FALSE(fs::exists(out + "/x.rawlog"));
+}
+
+}  // namespace
