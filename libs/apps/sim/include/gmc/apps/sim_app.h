@@ -1,0 +1,20 @@
+#pragma once
+#include "gmc/apps/app.h"
+
+namespace gmc::apps {
+
+/// gmc-sim <config.ini> --out DIR [--seed N] [--frames N]
+/// Writes a TUM-layout folder (rgb/, depth/, rgb.txt, depth.txt, groundtruth.txt),
+/// masks/<stamp>.png, sequence.rawlog and scene.xyz. The folder is assembled under a
+/// temporary name and renamed when complete.
+class SimApp : public App {
+ public:
+  void initialize(const std::vector<std::string>& args) override;
+  int run() override;
+
+ private:
+  std::string config_, out_;
+  int seed_ = -1, frames_ = -1;
+};
+
+}  // namespace gmc::apps

@@ -1,0 +1,113 @@
+#include "gmc/apps/sim_app.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+#include "gmc/config/ini.h"
+#include "gmc/datasets/atomic_file.h"
+#include "gmc/datasets/rawlog.h"
+#include "gmc/datasets/tum.h"
+#include "gmc/sim/sim_config.h"
+
+namespace gmc::apps {
+namespace fs = std::filesystem;
+namespace {
+const char* kUsage = "usage: gmc-sim <config.ini> --out DIR [--seed N] [--frames N]";
+
+int parseInt(const std::string& flag, const std::string& text) {
+  try {
+    size_t pos = 0;
+    const int v = std::stoi(text, &pos);
+    if (pos == text.size() && v >= 0) return v;
+  } catch (const std::exception&) {
+  }
+  throw AppError(flag + ": '" + text + "' is not a non-negative integer\n" + kUsage, 2);
+}
+}  // namespace
+
+void SimApp::initialize(const std::vector<std::string>& args) {
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "--out" || a == "--seed" || a == "--frames") {
+      if (i + 1 >= args.size()) throw AppError(a + " needs a value\n" + kUsage, 2);
+      const std::string& v = args[++i];
+      if (a == "--out") out_ = v;
+      else if (a == "--seed") seed_ = parseInt(a, v);
+      else frames_ = parseInt(a, v);
+    } else if (!a.empty() && a[0] == '-') {
+      throw AppError("unknown option '" + a + "'\n" + kUsage, 2);
+    } else if (config_.empty()) {
+      config_ = a;
+    } else {
+      throw AppError(kUsage, 2);
+    }
+  }
+  if (config_.empty() || out_.empty()) throw AppError(kUsage, 2);
+  if (frames_ == 0) throw AppError("--frames: must be at least 1", 2);
+}
+
+int SimApp::run() {
+  const auto ini = cfg::loadIniFile(config_);
+  sim::SimOptions options = sim::loadSimOptions(ini, config_);
+  if (seed_ >= 0) options.simulator.seed = seed_;
+  if (frames_ > 0) options.simulator.frames = frames_;
+  // Refuse to overwrite anything but an earlier gmc-sim output.
+  if (fs::exists(out_) && !(fs::exists(fs::path(out_) / "sequence.rawlog") || fs::is_empty(out_)))
+    throw AppError(out_ + ": exists and is not a gmc-sim output; choose another --out");
+  const fs::path final_dir(out_);
+  const fs::path tmp = final_dir.parent_path() /
+                       ("." + final_dir.filename().string() + ".partial" + std::to_string(::getpid()));
+  fs::remove_all(tmp);
+  for (const char* sub : {"rgb", "depth", "masks"}) fs::create_directories(tmp / sub);
+
+  const sim::Simulator simulator(options);
+  datasets::RawlogWriter rawlog((tmp / "sequence.rawlog").string());
+  std::vector<datasets::TumListEntry> rgb_list, depth_list;
+  std::vector<datasets::StampedPose> gt;
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool tty = isatty(fileno(stderr));
+  for (int i = 0; i < simulator.frameCount(); ++i) {
+    const sim::SimFrame f = simulator.renderFrame(i);
+    char stamp[32];
+    std::snprintf(stamp, sizeof stamp, "%.6f", f.frame.stamp);
+    const std::string name = std::string(stamp) + ".png";
+    datasets::writeImageAtomic((tmp / "rgb" / name).string(), f.frame.rgb);
+    datasets::writeImageAtomic((tmp / "depth" / name).string(), f.frame.depth);
+    datasets::writeImageAtomic((tmp / "masks" / name).string(), f.mask);
+    rgb_list.push_back({f.frame.stamp, "rgb/" + name});
+    depth_list.push_back({f.frame.stamp, "depth/" + name});
+    gt.push_back({f.frame.stamp, f.T_world_camera});
+    rawlog.write(f.frame);
+    if (tty) {
+      const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double fps = (i + 1) / el;
+      std::fprintf(stderr, "\rgmc-sim: frame %d/%d  %.1f fps  ETA %.0f s   ", i + 1,
+                   simulator.frameCount(), fps, (simulator.frameCount() - i - 1) / fps);
+    }
+  }
+  if (tty) std::fprintf(stderr, "\n");
+  rawlog.close();
+  datasets::writeTumList((tmp / "rgb.txt").string(), rgb_list, "color images (gmc-sim)");
+  datasets::writeTumList((tmp / "depth.txt").string(), depth_list, "depth images (gmc-sim), value/5000 = m");
+  datasets::writeTumTrajectory((tmp / "groundtruth.txt").string(), gt);
+  {
+    std::string text = "# static surface samples every 0.02 m, world frame (z up): x y z\n";
+    char line[96];
+    for (const auto& p : simulator.staticSurfaceSamples(0.02)) {
+      std::snprintf(line, sizeof line, "%.4f %.4f %.4f\n", p.x(), p.y(), p.z());
+      text += line;
+    }
+    datasets::writeTextAtomic((tmp / "scene.xyz").string(), text);
+  }
+  fs::remove_all(final_dir);
+  fs::rename(tmp, final_dir);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("%s: %d frames (%dx%d) in %.1f s\n", out_.c_str(), simulator.frameCount(),
+              options.camera.width, options.camera.height, seconds);
+  return 0;
+}
+
+}  // namespace gmc::apps

@@ -1,0 +1,138 @@
+#pragma once
+// Synthetic dynamic RGB-D sequences with exact ground truth: a textured room with
+// furniture, walking (or seated, gesturing) people, a moving Kinect-like camera.
+// Pure computation: renderFrame() returns images, mask and pose; the app writes files.
+#include <opencv2/core.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gmc/datasets/frame.h"
+
+namespace gmc::sim {
+
+/// [Simulator]
+struct SimulatorOptions {
+  int frames = 300;
+  double fps = 30.0;
+  int seed = 1;
+  double start_stamp = 1000000000.0;  ///< s, first frame's timestamp
+  int threads = 2;                     ///< rendering threads (output does not depend on it)
+  template <class V>
+  void visit(V& v) {
+    v("frames", frames, 1, 10000000, "frames to render");
+    v("fps", fps, 1.0, 1000.0, "frame rate (Hz)");
+    v("seed", seed, 0, 2000000000, "random seed: scene, people, noise");
+    v("start_stamp", start_stamp, 0.0, 1e10, "timestamp of the first frame (s)");
+    v("threads", threads, 1, 64, "rendering threads");
+  }
+};
+
+/// [Camera] (TUM fr3 defaults)
+struct CameraOptions {
+  double fx = 535.4, fy = 539.2, cx = 320.1, cy = 247.6;
+  int width = 640, height = 480;
+  template <class V>
+  void visit(V& v) {
+    v("fx", fx, 1.0, 1e5, "focal length x (px)");
+    v("fy", fy, 1.0, 1e5, "focal length y (px)");
+    v("cx", cx, 0.0, 1e5, "principal point x (px)");
+    v("cy", cy, 0.0, 1e5, "principal point y (px)");
+    v("width", width, 16, 10000, "image width (px)");
+    v("height", height, 16, 10000, "image height (px)");
+  }
+};
+
+/// [Trajectory]
+struct TrajectoryOptions {
+  std::string style = "xyz";     ///< static | xyz | rpy | halfsphere | handheld
+  double amplitude = 0.25;       ///< m, translation amplitude (xyz, handheld)
+  double rotation = 15.0;        ///< deg, rotation amplitude (rpy, handheld)
+  double period = 8.0;           ///< s, main period of the motion
+  double radius = 2.8;           ///< m, halfsphere radius around the room centre
+  double height = 1.4;           ///< m, camera height
+  template <class V>
+  void visit(V& v) {
+    v.choice("style", style, {"static", "xyz", "rpy", "halfsphere", "handheld"}, "camera motion");
+    v("amplitude", amplitude, 0.0, 5.0, "translation amplitude (m)");
+    v("rotation", rotation, 0.0, 90.0, "rotation amplitude (deg)");
+    v("period", period, 0.5, 1000.0, "main period (s)");
+    v("radius", radius, 0.5, 10.0, "halfsphere radius (m)");
+    v("height", height, 0.3, 2.5, "camera height (m)");
+  }
+};
+
+/// [People]
+struct PeopleOptions {
+  int walkers = 3;
+  double speed_min = 0.5, speed_max = 1.5;  ///< m/s
+  double distance_min = 1.0, distance_max = 4.0;  ///< m in front of the camera
+  bool sitting = false;                     ///< a seated person who only gestures
+  template <class V>
+  void visit(V& v) {
+    v("walkers", walkers, 0, 20, "people walking across the view");
+    v("speed_min", speed_min, 0.0, 5.0, "slowest walker (m/s)");
+    v("speed_max", speed_max, 0.0, 5.0, "fastest walker (m/s)");
+    v("distance_min", distance_min, 0.3, 6.0, "nearest walking line (m from the camera)");
+    v("distance_max", distance_max, 0.3, 6.0, "farthest walking line (m from the camera)");
+    v("sitting", sitting, "add a seated person who gestures");
+  }
+};
+
+/// [Sensor]
+struct SensorOptions {
+  bool depth_noise = true;        ///< sigma(z) = 1.2 mm + 1.9 mm (z - 0.4)^2
+  bool quantize = true;           ///< Kinect disparity steps (1/8 px)
+  double max_range = 6.0;         ///< m, no depth beyond
+  double grazing_angle = 80.0;    ///< deg, no depth above this incidence angle
+  bool edge_dropout = true;       ///< no depth next to depth discontinuities
+  double image_noise = 2.0;       ///< grey-level sigma of RGB noise
+  template <class V>
+  void visit(V& v) {
+    v("depth_noise", depth_noise, "Kinect-like depth noise");
+    v("quantize", quantize, "disparity quantisation");
+    v("max_range", max_range, 0.5, 100.0, "no depth beyond (m)");
+    v("grazing_angle", grazing_angle, 0.0, 90.0, "no depth above this incidence (deg)");
+    v("edge_dropout", edge_dropout, "no depth at depth discontinuities");
+    v("image_noise", image_noise, 0.0, 50.0, "RGB noise sigma (grey levels)");
+  }
+};
+
+struct SimOptions {
+  SimulatorOptions simulator;
+  CameraOptions camera;
+  TrajectoryOptions trajectory;
+  PeopleOptions people;
+  SensorOptions sensor;
+  /// Noise-free settings for exact geometric tests.
+  static SimOptions exact();
+};
+
+struct SimFrame {
+  datasets::RgbdFrame frame;            ///< BGR, depth in 1/5000 m units
+  cv::Mat mask;                         ///< CV_8UC1: 255 where a person is the nearest surface
+  Isometry T_world_camera;              ///< optical frame; world z up
+  cv::Mat true_depth;                   ///< CV_64FC1 noise-free depth (m), 0 = no surface
+};
+
+class Simulator {
+ public:
+  explicit Simulator(const SimOptions& options);
+  ~Simulator();
+  const SimOptions& options() const { return options_; }
+  int frameCount() const { return options_.simulator.frames; }
+  double stamp(int index) const;
+  Isometry cameraPose(int index) const;
+  SimFrame renderFrame(int index) const;
+  /// Points on all static surfaces (room, furniture), about `spacing` apart, world frame.
+  std::vector<Eigen::Vector3d> staticSurfaceSamples(double spacing) const;
+
+ private:
+  struct Scene;
+  SimOptions options_;
+  std::unique_ptr<Scene> scene_;
+};
+
+}  // namespace gmc::sim

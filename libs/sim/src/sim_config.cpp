@@ -1,0 +1,23 @@
+#include "gmc/sim/sim_config.h"
+
+#include "gmc/config/ini.h"
+
+namespace gmc::sim {
+
+SimOptions loadSimOptions(const mrpt::config::CConfigFileBase& ini, const std::string& source) {
+  SimOptions o;
+  cfg::loadSection(ini, "Simulator", o.simulator, source);
+  cfg::loadSection(ini, "Camera", o.camera, source);
+  cfg::loadSection(ini, "Trajectory", o.trajectory, source);
+  cfg::loadSection(ini, "People", o.people, source);
+  cfg::loadSection(ini, "Sensor", o.sensor, source);
+  const auto unknown = cfg::unknownSections(ini, {"Simulator", "Camera", "Trajectory", "People", "Sensor"});
+  if (!unknown.empty()) throw cfg::ConfigError(source + ": unknown section [" + unknown.front() + "]");
+  if (o.people.speed_min > o.people.speed_max)
+    throw cfg::ConfigError(source + ": [People] speed_min is above speed_max");
+  if (o.people.distance_min > o.people.distance_max)
+    throw cfg::ConfigError(source + ": [People] distance_min is above distance_max");
+  return o;
+}
+
+}  // namespace gmc::sim
