@@ -72,6 +72,10 @@ std::string PipelineReport::toJson() const {
   stage(os, "total", total_ms, true);
   os << "  }";
   if (has_map) os << ",\n  \"map\": " << mapping::toJson(map);
+  if (has_mask_score)
+    os << ",\n  \"dynamic_matches_vs_masks\": {\"precision\": " << mask_score.precision()
+       << ", \"recall\": " << mask_score.recall() << ", \"tp\": " << mask_score.tp
+       << ", \"fp\": " << mask_score.fp << ", \"fn\": " << mask_score.fn << "}";
   os << "\n}\n";
   return os.str();
 }
@@ -96,6 +100,9 @@ std::string PipelineReport::toText() const {
   line("total", total_ms);
   os << "  " << (wall_seconds > 0 ? frames / wall_seconds : 0.0) << " frames/s overall\n";
   if (has_map) os << "  map: " << mapping::toText(map) << "\n";
+  if (has_mask_score)
+    os << "  dynamic matches vs ground-truth masks: precision " << mask_score.precision()
+       << "  recall " << mask_score.recall() << "\n";
   return os.str();
 }
 

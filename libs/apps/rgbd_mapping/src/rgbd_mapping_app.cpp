@@ -71,6 +71,13 @@ cv::Mat drawOverlay(const datasets::RgbdFrame& frame, const vo::FrameTracking& t
   return img;
 }
 
+/// Ground-truth mask of a simulated frame: masks/<stamp with 6 decimals>.png.
+cv::Mat loadMask(const std::string& dir, double stamp) {
+  char name[48];
+  std::snprintf(name, sizeof name, "/%.6f.png", stamp);
+  return cv::imread(dir + name, cv::IMREAD_GRAYSCALE);
+}
+
 gmc::PinholeCamera cameraFromOptions(const DatasetOptions& o) {
   if (o.camera == "custom") {
     gmc::PinholeCamera c;
@@ -84,6 +91,19 @@ gmc::PinholeCamera cameraFromOptions(const DatasetOptions& o) {
 }
 
 }  // namespace
+
+void RgbdMappingApp::scoreAgainstMask(const datasets::RgbdFrame& frame,
+                                      const vo::FrameTracking& tracking, PipelineReport& report) const {
+  const cv::Mat mask = loadMask(masks_dir_, frame.stamp);
+  if (mask.empty()) throw AppError(masks_dir_ + ": no mask for frame " + frame.name);
+  for (size_t i = 0; i < tracking.keypoints.size(); ++i) {
+    const auto& kp = tracking.keypoints[i];
+    const bool on_person = mask.at<std::uint8_t>(static_cast<int>(kp.y + 0.5f), static_cast<int>(kp.x + 0.5f)) > 0;
+    const auto label = tracking.keypoint_labels[i];
+    if (label == MotionLabel::Undecided) continue;  // unmatched, or no decision
+    report.mask_score.add(label == MotionLabel::Dynamic, on_person);
+  }
+}
 
 void RgbdMappingApp::initialize(const std::vector<std::string>& args) {
   std::vector<std::string> positional;
@@ -151,6 +171,9 @@ int RgbdMappingApp::run() {
   auto old_term = std::signal(SIGTERM, onSignal);
 
   PipelineReport report;
+  const bool has_masks = fs::is_directory(fs::path(input_path_) / "masks");
+  masks_dir_ = (fs::path(input_path_) / "masks").string();
+  report.has_mask_score = has_masks;
   std::vector<datasets::StampedPose> trajectory;
   Isometry T_anchor = Isometry::Identity();
   const bool tty = playback.progress && isatty(fileno(stderr));
@@ -214,6 +237,7 @@ int RgbdMappingApp::run() {
       datasets::writeImageAtomic((fs::path(out_dir_) / "overlays" / name.str()).string(),
                                  drawOverlay(frame, tracking, ctx.dynamic_mask));
     }
+    if (has_masks) scoreAgainstMask(frame, tracking, report);
     const double pipeline_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     report.addFrame(tracking, map_ms, pipeline_ms);

@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "gmc/datasets/evaluation.h"
 #include "gmc/mapping/static_map.h"
 #include "gmc/vo/odometry.h"
 
@@ -25,6 +26,10 @@ struct PipelineReport {
   mapping::MapStats map;
   std::vector<double> frontend_ms, guess_ms, gmc_ms, refine_ms, odometry_ms, map_ms, total_ms;
   size_t static_matches = 0, dynamic_matches = 0;
+  /// Against ground-truth masks (simulated input): matched keypoints with a decision
+  /// (Static or Dynamic), Dynamic vs on a person. Undecided keypoints are not counted.
+  bool has_mask_score = false;
+  datasets::BinaryScore mask_score;
 
   void addFrame(const vo::FrameTracking& t, double map_insert_ms, double pipeline_ms);
   std::string toJson() const;

@@ -6,6 +6,8 @@
 #include <vector>
 
 #include "gmc/apps/app.h"
+#include "gmc/apps/pipeline_report.h"
+#include "gmc/datasets/frame.h"
 
 namespace gmc::apps {
 
@@ -74,7 +76,10 @@ class RgbdMappingApp : public App {
   const std::string& outputDir() const { return out_dir_; }
 
  private:
-  std::string config_path_, input_path_, out_dir_;
+  void scoreAgainstMask(const datasets::RgbdFrame& frame, const vo::FrameTracking& tracking,
+                        PipelineReport& report) const;
+
+  std::string config_path_, input_path_, out_dir_, masks_dir_;
   std::vector<std::string> overrides_;
   static std::atomic<bool> stop_requested_;
 };
