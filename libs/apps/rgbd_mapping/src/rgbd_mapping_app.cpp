@@ -43,8 +43,12 @@ void onSignal(int) { RgbdMappingApp::requestStop(); }
 /// Draws keypoints coloured by label and the dynamic GMC cells over the image.
 cv::Mat drawOverlay(const datasets::RgbdFrame& frame, const vo::FrameTracking& t,
                     const cv::Mat& mask) {
-  cv::Mat img = frame.rgb.clone();
-  if (img.channels() == 1) cv::cvtColor(img, img, cv::COLOR_GRAY2BGR);
+  // Grey, dimmed background so the coloured labels stand out on any texture.
+  cv::Mat img;
+  if (frame.rgb.channels() == 3) cv::cvtColor(frame.rgb, img, cv::COLOR_BGR2GRAY);
+  else img = frame.rgb.clone();
+  img.convertTo(img, CV_8U, 0.6, 40);
+  cv::cvtColor(img, img, cv::COLOR_GRAY2BGR);
   if (!mask.empty()) {
     cv::Mat red(img.size(), CV_8UC3, cv::Scalar(0, 0, 255));
     cv::Mat blended;
@@ -52,7 +56,7 @@ cv::Mat drawOverlay(const datasets::RgbdFrame& frame, const vo::FrameTracking& t
     blended.copyTo(img, mask);
   }
   for (const auto& cell : t.gmc.cells) {
-    if (cell.cluster < 0 || cell.cluster == t.gmc.static_cluster) continue;
+    if (cell.cluster < 0 || t.gmc.clusters[static_cast<size_t>(cell.cluster)].is_static) continue;
     cv::rectangle(img, cv::Rect(cell.x0, cell.y0, cell.x1 - cell.x0, cell.y1 - cell.y0),
                   cv::Scalar(0, 200, 255), 1);
   }
@@ -61,7 +65,9 @@ cv::Mat drawOverlay(const datasets::RgbdFrame& frame, const vo::FrameTracking& t
     const cv::Scalar colour = label == MotionLabel::Static    ? cv::Scalar(0, 220, 0)
                               : label == MotionLabel::Dynamic ? cv::Scalar(0, 0, 255)
                                                               : cv::Scalar(160, 160, 160);
-    cv::circle(img, t.keypoints[i], 3, colour, label == MotionLabel::Undecided ? 1 : cv::FILLED);
+    if (label != MotionLabel::Undecided) cv::circle(img, t.keypoints[i], 5, cv::Scalar(0, 0, 0), cv::FILLED);
+    cv::circle(img, t.keypoints[i], label == MotionLabel::Undecided ? 2 : 4, colour,
+               label == MotionLabel::Undecided ? 1 : cv::FILLED);
   }
   std::ostringstream text;
   text << std::fixed << std::setprecision(6) << frame.stamp << "  " << vo::toString(t.state)

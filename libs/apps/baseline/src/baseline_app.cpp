@@ -1,0 +1,75 @@
+#include "gmc/apps/baseline_app.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "gmc/datasets/camera.h"
+#include "gmc/datasets/source.h"
+#include "gmc/datasets/tum.h"
+#include "gmc/vo/opencv_baseline.h"
+
+namespace gmc::apps {
+namespace {
+const char* kUsage =
+    "usage: gmc-baseline-odometry <input.rawlog|tum_dir> --out TRAJ.txt "
+    "[--camera fr1|fr2|fr3|bonn|fx,fy,cx,cy] [--method rgbd|icp|rgbd_icp]";
+}
+
+void BaselineApp::initialize(const std::vector<std::string>& args) {
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "--out" || a == "--camera" || a == "--method") {
+      if (i + 1 >= args.size()) throw AppError(a + " needs a value\n" + kUsage, 2);
+      (a == "--out" ? out_ : a == "--camera" ? camera_ : method_) = args[++i];
+    } else if (!a.empty() && a[0] == '-') {
+      throw AppError("unknown option '" + a + "'\n" + kUsage, 2);
+    } else if (input_.empty()) {
+      input_ = a;
+    } else {
+      throw AppError(kUsage, 2);
+    }
+  }
+  if (input_.empty() || out_.empty()) throw AppError(kUsage, 2);
+}
+
+int BaselineApp::run() {
+  PinholeCamera camera;
+  try {
+    camera = datasets::cameraPreset(camera_);
+  } catch (const std::invalid_argument& e) {
+    throw AppError(std::string("--camera: ") + e.what(), 2);
+  }
+  std::unique_ptr<vo::OpenCvOdometry> odometry;
+  try {
+    odometry = std::make_unique<vo::OpenCvOdometry>(method_, camera);
+  } catch (const std::invalid_argument& e) {
+    throw AppError(std::string("--method: ") + e.what(), 2);
+  }
+  auto source = datasets::openRgbdSource(input_, camera);
+  std::vector<datasets::StampedPose> trajectory;
+  std::vector<double> ms;
+  size_t failed = 0;
+  datasets::RgbdFrame frame;
+  while (source->next(frame)) {
+    cv::Mat gray;
+    cv::cvtColor(frame.rgb, gray, cv::COLOR_BGR2GRAY);
+    const auto t0 = std::chrono::steady_clock::now();
+    bool ok = true;
+    const Isometry T = odometry->process(gray, frame.depth, frame.depth_units, ok);
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    failed += !ok;
+    trajectory.push_back({frame.stamp, T});
+  }
+  if (trajectory.empty()) throw AppError(input_ + ": no frames");
+  datasets::writeTumTrajectory(out_, trajectory);
+  std::sort(ms.begin(), ms.end());
+  std::printf("OpenCV %s odometry: %zu frames, %zu failed, %.2f ms median per frame\n",
+              method_.c_str(), trajectory.size(), failed, ms[ms.size() / 2]);
+  return 0;
+}
+
+}  // namespace gmc::apps
