@@ -72,6 +72,7 @@ std::string PipelineReport::toJson() const {
   stage(os, "total", total_ms, true);
   os << "  }";
   if (has_map) os << ",\n  \"map\": " << mapping::toJson(map);
+  if (has_map_quality) os << ",\n  \"map_quality\": " << mapping::toJson(map_quality);
   if (has_mask_score)
     os << ",\n  \"dynamic_matches_vs_masks\": {\"precision\": " << mask_score.precision()
        << ", \"recall\": " << mask_score.recall() << ", \"tp\": " << mask_score.tp
@@ -100,6 +101,10 @@ std::string PipelineReport::toText() const {
   line("total", total_ms);
   os << "  " << (wall_seconds > 0 ? frames / wall_seconds : 0.0) << " frames/s overall\n";
   if (has_map) os << "  map: " << mapping::toText(map) << "\n";
+  if (has_map_quality)
+    os << "  map vs ground truth: " << map_quality.ghost_voxels << " ghost voxels (of "
+       << map_quality.dynamic_only_voxels << " where only people were), static coverage "
+       << map_quality.static_coverage() << "\n";
   if (has_mask_score)
     os << "  dynamic matches vs ground-truth masks: precision " << mask_score.precision()
        << "  recall " << mask_score.recall() << "\n";

@@ -24,6 +24,7 @@
 #include "gmc/datasets/source.h"
 #include "gmc/datasets/tum.h"
 #include "gmc/filters/filter.h"
+#include "gmc/mapping/map_quality.h"
 #include "gmc/mapping/static_map.h"
 
 namespace gmc::apps {
@@ -168,6 +169,11 @@ int RgbdMappingApp::run() {
   fs::create_directories(out_dir_);
   std::unique_ptr<mapping::StaticMapBuilder> map;
   if (output.map) map = std::make_unique<mapping::StaticMapBuilder>(map_options);
+  // Simulated input anchored to its ground truth: measure ghost voxels and coverage.
+  std::unique_ptr<mapping::GroundTruthVoxels> truth_voxels;
+  if (map && dataset.anchor_to_groundtruth && fs::is_directory(fs::path(input_path_) / "masks"))
+    truth_voxels = std::make_unique<mapping::GroundTruthVoxels>(map_options.resolution, map_options.max_range,
+                                                                map_options.pixel_step);
   std::unique_ptr<datasets::RawlogWriter> filtered;
   if (output.filtered_rawlog)
     filtered = std::make_unique<datasets::RawlogWriter>((fs::path(out_dir_) / "filtered.rawlog").string());
@@ -244,6 +250,10 @@ int RgbdMappingApp::run() {
                                  drawOverlay(frame, tracking, ctx.dynamic_mask));
     }
     if (has_masks) scoreAgainstMask(frame, tracking, report);
+    if (truth_voxels) {
+      const auto gt_pose = datasets::interpolatePose(groundtruth, frame.stamp);
+      if (gt_pose) truth_voxels->addFrame(frame, loadMask(masks_dir_, frame.stamp), *gt_pose);
+    }
     const double pipeline_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     report.addFrame(tracking, map_ms, pipeline_ms);
@@ -275,6 +285,10 @@ int RgbdMappingApp::run() {
     map->writeBinary((fs::path(out_dir_) / "map.bt").string());
     report.map = map->stats();
     report.has_map = true;
+    if (truth_voxels) {
+      report.map_quality = truth_voxels->evaluate(map->tree());
+      report.has_map_quality = true;
+    }
   }
   if (filtered) filtered->close();
   datasets::writeTextAtomic((fs::path(out_dir_) / "summary.json").string(), report.toJson());

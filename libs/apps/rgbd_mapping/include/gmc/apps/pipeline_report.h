@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "gmc/datasets/evaluation.h"
+#include "gmc/mapping/map_quality.h"
 #include "gmc/mapping/static_map.h"
 #include "gmc/vo/odometry.h"
 
@@ -24,6 +25,8 @@ struct PipelineReport {
   bool interrupted = false;
   bool has_map = false;
   mapping::MapStats map;
+  bool has_map_quality = false;
+  mapping::MapQuality map_quality;
   std::vector<double> frontend_ms, guess_ms, gmc_ms, refine_ms, odometry_ms, map_ms, total_ms;
   size_t static_matches = 0, dynamic_matches = 0;
   /// Against ground-truth masks (simulated input): matched keypoints with a decision
