@@ -27,7 +27,7 @@ void StaticMapBuilder::insertFrame(const datasets::RgbdFrame& frame, const cv::M
   const int step = options_.pixel_step;
   for (int v = step / 2; v < frame.depth.rows; v += step) {
     const auto* drow = frame.depth.ptr<std::uint16_t>(v);
-    const auto* mrow = dynamic_mask.empty() ? nullptr : dynamic_mask.ptr<std::uint8_t>(v);
+    const auto* mrow = dynamic_mask.empty() || !options_.use_dynamic_mask ? nullptr : dynamic_mask.ptr<std::uint8_t>(v);
     for (int u = step / 2; u < frame.depth.cols; u += step) {
       const double z = drow[u] * frame.depth_units;
       if (drow[u] == 0 || z < options_.min_range) continue;

@@ -15,13 +15,14 @@ cv::Mat buildDynamicMask(const FrameTracking& tracking, const cv::Mat& depth, do
 
   // Region the growth may reach: dynamic leaf cells, dilated by a margin of cells.
   cv::Mat allowed = cv::Mat::zeros(small, CV_8UC1);
-  for (const auto& cell : tracking.gmc.cells) {
-    if (cell.cluster < 0 || cell.cluster == tracking.gmc.static_cluster) continue;
-    if (tracking.gmc.clusters[static_cast<size_t>(cell.cluster)].is_static) continue;
-    const int mx = options.cell_margin * (cell.x1 - cell.x0), my = options.cell_margin * (cell.y1 - cell.y0);
-    cv::Rect r(cv::Point((cell.x0 - mx) / s, (cell.y0 - my) / s),
-               cv::Point((cell.x1 + mx + s - 1) / s, (cell.y1 + my + s - 1) / s));
-    allowed(r & cv::Rect(cv::Point(0, 0), small)).setTo(255);
+  for (const GmcResult* result : {&tracking.gmc, &tracking.gmc_previous}) {
+    for (const auto& cell : result->cells) {
+      if (cell.cluster < 0 || result->clusters[static_cast<size_t>(cell.cluster)].is_static) continue;
+      const int mx = options.cell_margin * (cell.x1 - cell.x0), my = options.cell_margin * (cell.y1 - cell.y0);
+      cv::Rect r(cv::Point((cell.x0 - mx) / s, (cell.y0 - my) / s),
+                 cv::Point((cell.x1 + mx + s - 1) / s, (cell.y1 + my + s - 1) / s));
+      allowed(r & cv::Rect(cv::Point(0, 0), small)).setTo(255);
+    }
   }
 
   // Seeds: discs around dynamic keypoints.

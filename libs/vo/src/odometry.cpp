@@ -39,7 +39,35 @@ const char* toString(TrackingState s) {
 }
 
 RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
-    : config_(config), frontend_(config.frontend, config.gms), gmc_(config.gmc) {}
+    : config_(config), frontend_(config.frontend, config.gms), gmc_(config.gmc), gmc_previous_(config.gmc) {}
+
+void RgbdOdometry::labelAgainstPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_cur,
+                                             const PinholeCamera& camera, FrameTracking& out) {
+  // A walker near the camera moves more between keyframe and frame than the guided
+  // window; one frame apart it is still matchable. Only keypoints the keyframe pass left
+  // undecided take these labels, so the pose (already refined) is unaffected.
+  const Isometry T_prev_cur = T_world_previous_.inverse() * T_world_cur;
+  auto matches = frontend_.matchGuided(previous_, cur, T_prev_cur.inverse(), camera,
+                                       config_.frontend.match_radius);
+  matches = frontend_.filterGms(previous_, cur, matches);
+  std::vector<MotionMatch> motion;
+  std::vector<int> cur_index;
+  for (const auto& m : matches) {
+    if (!cur.hasDepth(m.cur)) continue;
+    const auto& kp = cur.keypoints[static_cast<size_t>(m.cur)].pt;
+    motion.push_back({Eigen::Vector2f(kp.x, kp.y), previous_.points[static_cast<size_t>(m.ref)],
+                      cur.points[static_cast<size_t>(m.cur)]});
+    cur_index.push_back(m.cur);
+  }
+  out.gmc_previous = gmc_previous_.classify(motion, T_prev_cur, cur.width, cur.height);
+  for (size_t k = 0; k < motion.size(); ++k) {
+    auto& label = out.keypoint_labels[static_cast<size_t>(cur_index[k])];
+    if (label == MotionLabel::Undecided && out.gmc_previous.labels[k] == MotionLabel::Dynamic) {
+      label = MotionLabel::Dynamic;
+      ++out.num_dynamic;
+    }
+  }
+}
 
 Isometry RgbdOdometry::predictPose() const {
   return config_.odometry.use_motion_model ? T_world_last_ * velocity_ : T_world_last_;
@@ -156,6 +184,8 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth,
     out.times.frontend = msSince(t_start);
     out.state = TrackingState::Initialized;
     out.new_keyframe = true;
+    previous_ = cur;
+    T_world_previous_ = Isometry::Identity();
     makeKeyframe(std::move(cur), std::vector<MotionLabel>(out.num_features, MotionLabel::Undecided),
                  Isometry::Identity(), 0);
     initialized_ = true;
@@ -236,6 +266,13 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth,
     ++lost_streak_;
   }
   out.T_world_camera = T_world_cur;
+  if (config_.odometry.previous_frame_labels && config_.gmc.enabled && previous_.size() > 0) {
+    const auto t_prev = Clock::now();
+    labelAgainstPreviousFrame(cur, T_world_cur, camera, out);
+    out.times.gmc += msSince(t_prev);
+  }
+  previous_ = cur;
+  T_world_previous_ = T_world_cur;
 
   // 5. Keyframe management.
   const Isometry T_kf_cur = keyframe_.T_world_kf.inverse() * T_world_cur;

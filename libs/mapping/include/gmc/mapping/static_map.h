@@ -22,6 +22,7 @@ struct StaticMapOptions {
   double clamp_min = 0.12;
   double clamp_max = 0.97;
   bool discretize = true;         ///< OctoMap's discretized insertion (one ray per voxel)
+  bool use_dynamic_mask = true;   ///< false: insert everything (ablation: GMC poses, no mask)
   bool clear_dynamic_rays = true; ///< rays to dynamic pixels clear free space in front of them
   double dynamic_ray_margin = 0.15;  ///< m, stop clearing this far before a dynamic surface
 
@@ -36,6 +37,7 @@ struct StaticMapOptions {
     v("clamp_min", clamp_min, 0.0, 0.5, "lower clamping probability");
     v("clamp_max", clamp_max, 0.5, 1.0, "upper clamping probability");
     v("discretize", discretize, "discretized insertion (faster, one ray per voxel)");
+    v("use_dynamic_mask", use_dynamic_mask, "keep dynamic pixels out of the map");
     v("clear_dynamic_rays", clear_dynamic_rays, "rays to dynamic pixels clear free space");
     v("dynamic_ray_margin", dynamic_ray_margin, 0.0, 10.0, "m kept before a dynamic surface");
   }

@@ -27,6 +27,9 @@ struct OdometryOptions {
                                         ///< fraction of the keyframe's static matches at creation
   double keyframe_max_translation = 0.25;  ///< m from the keyframe
   double keyframe_max_rotation = 15.0;     ///< deg from the keyframe
+  bool previous_frame_labels = true;    ///< also run GMC against the previous frame, so
+                                        ///< walkers too fast to match over the keyframe gap
+                                        ///< are labelled (for masks; not for the pose)
   int reanchor_after_lost = 3;          ///< consecutive lost frames before a new keyframe
                                         ///< is anchored at the predicted pose
 
@@ -45,6 +48,8 @@ struct OdometryOptions {
       "new keyframe below this fraction of the keyframe's static matches");
     v("keyframe_max_translation", keyframe_max_translation, 0.0, 100.0, "m from the keyframe");
     v("keyframe_max_rotation", keyframe_max_rotation, 0.0, 180.0, "deg from the keyframe");
+    v("previous_frame_labels", previous_frame_labels,
+      "label keypoints unmatched to the keyframe by GMC against the previous frame");
     v("reanchor_after_lost", reanchor_after_lost, 1, 100000,
       "lost frames before re-anchoring a keyframe at the predicted pose");
   }
@@ -82,7 +87,8 @@ struct FrameTracking {
   /// Current keypoints and their labels (Undecided when unmatched), for overlays/masks.
   std::vector<cv::Point2f> keypoints;
   std::vector<MotionLabel> keypoint_labels;
-  GmcResult gmc;                        ///< cells and clusters of this frame
+  GmcResult gmc;                        ///< cells and clusters of this frame (vs keyframe)
+  GmcResult gmc_previous;               ///< the same against the previous frame (masks)
 
   bool tracked() const {
     return state == TrackingState::Tracking || state == TrackingState::Initialized;
@@ -122,7 +128,13 @@ class RgbdOdometry {
   OdometryConfig config_;
   features::Frontend frontend_;
   GmcClassifier gmc_;
+  void labelAgainstPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_cur,
+                                 const PinholeCamera& camera, FrameTracking& out);
+
   Keyframe keyframe_;
+  features::FeatureSet previous_;       ///< last frame's features (shared descriptor data)
+  Isometry T_world_previous_ = Isometry::Identity();
+  GmcClassifier gmc_previous_;
   bool initialized_ = false;
   Isometry T_world_last_ = Isometry::Identity();
   Isometry velocity_ = Isometry::Identity();  ///< T_last_prev^-1 style: last frame-to-frame motion
