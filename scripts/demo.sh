@@ -17,8 +17,7 @@ echo "== gmc-rgbd-mapping (GMC on)"
 echo "== trajectory error against ground truth"
 "$bin/gmc-eval" --gt "$out/sequence/groundtruth.txt" --est "$out/run/trajectory_tum.txt" \
   --json "$out/run/eval.json" --plot "$out/run/trajectory.png"
-if [ -x "$bin/gmc-map-export" ]; then
-  "$bin/gmc-map-export" "$out/run/map.bt" --ply "$out/run/map.ply" --grid "$out/run/grid.png" \
-    --grid-yaml "$out/run/grid.yaml"
-fi
-echo "== outputs in $out/run: trajectory_tum.txt, map.bt, summary.json, eval.json, trajectory.png, overlays/"
+echo "== static map export"
+"$bin/gmc-map-export" "$out/run/map.bt" --ply "$out/run/map.ply" --grid "$out/run/grid.png" \
+  --grid-yaml "$out/run/grid.yaml" --top-view "$out/run/map_top.png" --height-band 0.1,2.5
+echo "== outputs in $out/run: trajectory_tum.txt, map.bt (octovis), map.ply, grid.png/.yaml, map_top.png, summary.json, eval.json, trajectory.png, overlays/"

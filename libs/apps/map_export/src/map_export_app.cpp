@@ -1,0 +1,67 @@
+#include "gmc/apps/map_export_app.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "gmc/datasets/atomic_file.h"
+#include "gmc/mapping/export.h"
+
+namespace gmc::apps {
+namespace {
+const char* kUsage =
+    "usage: gmc-map-export <map.bt> [--ply OUT.ply] [--grid OUT.png] [--grid-yaml OUT.yaml] "
+    "[--height-band zmin,zmax] [--scene OUT.3Dscene] [--top-view OUT.png] [--up z|-y]";
+}
+
+void MapExportApp::initialize(const std::vector<std::string>& args) {
+  std::string band;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    std::string* target = a == "--ply" ? &ply_ : a == "--grid" ? &grid_ : a == "--grid-yaml" ? &grid_yaml_
+                        : a == "--scene" ? &scene_ : a == "--top-view" ? &top_view_ : a == "--up" ? &up_
+                        : a == "--height-band" ? &band : nullptr;
+    if (target) {
+      if (i + 1 >= args.size()) throw AppError(a + " needs a value\n" + kUsage, 2);
+      *target = args[++i];
+    } else if (!a.empty() && a[0] == '-') {
+      throw AppError("unknown option '" + a + "'\n" + kUsage, 2);
+    } else if (map_.empty()) {
+      map_ = a;
+    } else {
+      throw AppError(kUsage, 2);
+    }
+  }
+  if (map_.empty()) throw AppError(kUsage, 2);
+  if (ply_.empty() && grid_.empty() && scene_.empty() && top_view_.empty())
+    throw AppError("nothing to export: give --ply, --grid, --scene or --top-view\n" + std::string(kUsage), 2);
+  if (!grid_yaml_.empty() && grid_.empty()) throw AppError("--grid-yaml needs --grid", 2);
+  if (up_ != "z" && up_ != "-y") throw AppError("--up: expected z or -y", 2);
+  if (!band.empty()) {
+    char comma = 0;
+    if (std::sscanf(band.c_str(), "%lf%c%lf", &zmin_, &comma, &zmax_) != 3 || comma != ',' || zmin_ >= zmax_)
+      throw AppError("--height-band: expected zmin,zmax with zmin < zmax", 2);
+  }
+}
+
+int MapExportApp::run() {
+  if (!std::filesystem::is_regular_file(map_)) throw AppError(map_ + ": no such map file");
+  std::unique_ptr<octomap::OcTree> tree(new octomap::OcTree(0.05));
+  if (!tree->readBinary(map_)) throw AppError(map_ + ": not a readable OctoMap .bt file");
+  const auto up = up_ == "z" ? mapping::UpAxis::Z : mapping::UpAxis::MinusY;
+  const mapping::HeightBand band{zmin_, zmax_};
+  if (!ply_.empty()) std::printf("%s: %zu occupied voxels\n", ply_.c_str(), mapping::writePly(*tree, ply_, up));
+  if (!grid_.empty()) {
+    const auto grid = mapping::occupancyGrid(*tree, band, up);
+    mapping::writeGrid(grid, grid_, grid_yaml_.empty() ? std::nullopt : std::optional<std::string>(grid_yaml_));
+    std::printf("%s: %dx%d cells of %.3f m\n", grid_.c_str(), grid.image.cols, grid.image.rows, grid.resolution);
+  }
+  if (!top_view_.empty()) datasets::writeImageAtomic(top_view_, mapping::topView(*tree, band, up));
+  if (!scene_.empty()) {
+    mapping::writeScene(*tree, scene_, up);
+    std::printf("%s: MRPT scene\n", scene_.c_str());
+  }
+  return 0;
+}
+
+}  // namespace gmc::apps

@@ -1,0 +1,171 @@
+#include "gmc/mapping/export.h"
+
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CPointCloudColoured.h>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "gmc/datasets/atomic_file.h"
+
+namespace gmc::mapping {
+namespace {
+
+/// Voxel centre in a z-up frame (x east, y north, z up).
+struct Cell {
+  double x, y, z, size;
+  bool occupied;
+};
+
+template <class F>
+void forEachLeaf(const octomap::OcTree& tree, UpAxis up, F&& f) {
+  for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
+    Cell c{it.getX(), it.getY(), it.getZ(), it.getSize(), tree.isNodeOccupied(*it)};
+    if (up == UpAxis::MinusY) c = {it.getX(), it.getZ(), -it.getY(), it.getSize(), c.occupied};
+    f(c);
+  }
+}
+
+cv::Vec3b heightColour(double z, double lo, double hi) {
+  const double t = hi > lo ? std::clamp((z - lo) / (hi - lo), 0.0, 1.0) : 0.5;
+  cv::Mat1b v(1, 1, static_cast<std::uint8_t>(t * 255));
+  cv::Mat c;
+  cv::applyColorMap(v, c, cv::COLORMAP_TURBO);
+  return c.at<cv::Vec3b>(0, 0);
+}
+
+struct Bounds {
+  double x0 = 1e18, y0 = 1e18, z0 = 1e18, x1 = -1e18, y1 = -1e18, z1 = -1e18;
+  void add(const Cell& c) {
+    x0 = std::min(x0, c.x), y0 = std::min(y0, c.y), z0 = std::min(z0, c.z);
+    x1 = std::max(x1, c.x), y1 = std::max(y1, c.y), z1 = std::max(z1, c.z);
+  }
+};
+
+}  // namespace
+
+size_t writePly(const octomap::OcTree& tree, const std::string& path, UpAxis up) {
+  std::vector<Cell> cells;
+  Bounds b;
+  forEachLeaf(tree, up, [&](const Cell& c) {
+    if (c.occupied) cells.push_back(c), b.add(c);
+  });
+  datasets::AtomicFile file(path);
+  {
+    std::ofstream out(file.tempPath(), std::ios::binary);
+    out << "ply\nformat binary_little_endian 1.0\ncomment GMC-RGBD static map, occupied voxel centres\n"
+        << "element vertex " << cells.size()
+        << "\nproperty float x\nproperty float y\nproperty float z\n"
+        << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+    for (const auto& c : cells) {
+      const float xyz[3] = {static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
+      const cv::Vec3b bgr = heightColour(c.z, b.z0, b.z1);
+      const std::uint8_t rgb[3] = {bgr[2], bgr[1], bgr[0]};
+      out.write(reinterpret_cast<const char*>(xyz), sizeof xyz);
+      out.write(reinterpret_cast<const char*>(rgb), sizeof rgb);
+    }
+    if (!out) throw std::runtime_error(path + ": cannot write");
+  }
+  file.commit();
+  return cells.size();
+}
+
+OccupancyGrid occupancyGrid(const octomap::OcTree& tree, const HeightBand& band, UpAxis up) {
+  OccupancyGrid g;
+  g.resolution = tree.getResolution();
+  Bounds b;
+  forEachLeaf(tree, up, [&](const Cell& c) {
+    if (c.z >= band.min && c.z <= band.max) b.add(c);
+  });
+  if (b.x1 < b.x0) {
+    g.image = cv::Mat(1, 1, CV_8UC1, cv::Scalar(205));
+    return g;
+  }
+  const int w = static_cast<int>(std::ceil((b.x1 - b.x0) / g.resolution)) + 2;
+  const int h = static_cast<int>(std::ceil((b.y1 - b.y0) / g.resolution)) + 2;
+  g.origin_x = b.x0 - g.resolution;
+  g.origin_y = b.y0 - g.resolution;
+  g.image = cv::Mat(h, w, CV_8UC1, cv::Scalar(205));
+  auto paint = [&](const Cell& c, std::uint8_t value) {
+    const int n = std::max(1, static_cast<int>(std::lround(c.size / g.resolution)));
+    const int cx = static_cast<int>((c.x - c.size / 2 - g.origin_x) / g.resolution + 0.5);
+    const int cy = static_cast<int>((c.y - c.size / 2 - g.origin_y) / g.resolution + 0.5);
+    for (int dy = 0; dy < n; ++dy)
+      for (int dx = 0; dx < n; ++dx) {
+        const int px = cx + dx, py = h - 1 - (cy + dy);  // north up
+        if (px < 0 || py < 0 || px >= w || py >= h) continue;
+        auto& v = g.image.at<std::uint8_t>(py, px);
+        if (value == 0 || v == 205) v = value;  // occupied wins over free
+      }
+  };
+  forEachLeaf(tree, up, [&](const Cell& c) {
+    if (c.z + c.size / 2 < band.min || c.z - c.size / 2 > band.max) return;
+    paint(c, c.occupied ? 0 : 254);
+  });
+  return g;
+}
+
+void writeGrid(const OccupancyGrid& grid, const std::string& png_path,
+               const std::optional<std::string>& yaml_path) {
+  datasets::writeImageAtomic(png_path, grid.image);
+  if (!yaml_path) return;
+  std::ostringstream os;
+  os << "image: " << std::string(png_path).substr(png_path.find_last_of('/') + 1) << "\n"
+     << "resolution: " << grid.resolution << "\n"
+     << "origin: [" << grid.origin_x << ", " << grid.origin_y << ", 0.0]\n"
+     << "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  datasets::writeTextAtomic(*yaml_path, os.str());
+}
+
+cv::Mat topView(const octomap::OcTree& tree, const HeightBand& band, UpAxis up, int scale) {
+  const OccupancyGrid g = occupancyGrid(tree, band, up);
+  cv::Mat img(g.image.rows, g.image.cols, CV_8UC3, cv::Scalar(235, 235, 235));
+  cv::Mat top(g.image.rows, g.image.cols, CV_64FC1, cv::Scalar(-1e18));
+  Bounds b;
+  forEachLeaf(tree, up, [&](const Cell& c) {
+    if (c.occupied && c.z >= band.min && c.z <= band.max) b.add(c);
+  });
+  forEachLeaf(tree, up, [&](const Cell& c) {
+    if (c.z < band.min || c.z > band.max) return;
+    const int px = static_cast<int>((c.x - g.origin_x) / g.resolution);
+    const int py = g.image.rows - 1 - static_cast<int>((c.y - g.origin_y) / g.resolution);
+    if (px < 0 || py < 0 || px >= img.cols || py >= img.rows) return;
+    if (!c.occupied) {
+      if (top.at<double>(py, px) < -1e17) img.at<cv::Vec3b>(py, px) = cv::Vec3b(255, 255, 255);
+      return;
+    }
+    if (c.z > top.at<double>(py, px)) {
+      top.at<double>(py, px) = c.z;
+      img.at<cv::Vec3b>(py, px) = heightColour(c.z, b.z0, b.z1);
+    }
+  });
+  cv::resize(img, img, cv::Size(), scale, scale, cv::INTER_NEAREST);
+  return img;
+}
+
+void writeScene(const octomap::OcTree& tree, const std::string& path, UpAxis up) {
+  auto cloud = mrpt::opengl::CPointCloudColoured::Create();
+  Bounds b;
+  forEachLeaf(tree, up, [&](const Cell& c) {
+    if (c.occupied) b.add(c);
+  });
+  forEachLeaf(tree, up, [&](const Cell& c) {
+    if (!c.occupied) return;
+    const cv::Vec3b bgr = heightColour(c.z, b.z0, b.z1);
+    cloud->push_back(static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z),
+                     bgr[2] / 255.f, bgr[1] / 255.f, bgr[0] / 255.f);
+  });
+  cloud->setPointSize(3.0f);
+  mrpt::opengl::COpenGLScene scene;
+  scene.insert(cloud);
+  datasets::AtomicFile file(path);
+  if (!scene.saveToFile(file.tempPath())) throw std::runtime_error(path + ": cannot write scene");
+  file.commit();
+}
+
+}  // namespace gmc::mapping

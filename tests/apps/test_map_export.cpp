@@ -1,0 +1,75 @@
+#include <gtest/gtest.h>
+
+#include <octomap/OcTree.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "gmc/apps/map_export_app.h"
+#include "test_data.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+int runExport(std::vector<std::string> args) {
+  args.insert(args.begin(), "gmc-map-export");
+  std::vector<char*> argv;
+  for (auto& s : args) argv.push_back(s.data());
+  gmc::apps::MapExportApp app;
+  return gmc::apps::runMain(app, "gmc-map-export", static_cast<int>(argv.size()), argv.data());
+}
+
+/// A 1 m x 1 m wall (x, z) at y = 2 and free space in front of it, 0.1 m voxels.
+std::string makeMap(const std::string& dir) {
+  octomap::OcTree tree(0.1);
+  octomap::Pointcloud cloud;
+  for (double x = -0.45; x < 0.5; x += 0.1)
+    for (double z = 0.05; z < 1.0; z += 0.1) cloud.push_back(x, 2.0, z);
+  tree.insertPointCloud(cloud, octomap::point3d(0, 0, 0.5));
+  const std::string path = dir + "/map.bt";
+  tree.writeBinary(path);
+  return path;
+}
+
+TEST(MapExport, WritesPlyGridYamlSceneAndTopView) {
+  const auto dir = gmc::testdata::scratchDir("map_export");
+  const auto map = makeMap(dir);
+  ASSERT_EQ(runExport({map, "--ply", dir + "/m.ply", "--grid", dir + "/g.png", "--grid-yaml", dir + "/g.yaml",
+                       "--height-band", "0.2,0.8", "--scene", dir + "/m.3Dscene", "--top-view", dir + "/t.png"}),
+            0);
+  std::ifstream ply(dir + "/m.ply", std::ios::binary);
+  std::string line;
+  size_t vertices = 0;
+  while (std::getline(ply, line) && line != "end_header")
+    if (line.rfind("element vertex ", 0) == 0) vertices = std::stoul(line.substr(15));
+  EXPECT_EQ(vertices, 100u);  // 10 x 10 wall voxels
+  const cv::Mat grid = cv::imread(dir + "/g.png", cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(grid.empty());
+  EXPECT_EQ(cv::countNonZero(grid == 0), 10);        // one row of wall cells
+  EXPECT_GT(cv::countNonZero(grid == 254), 20);      // free space in front
+  std::stringstream yaml;
+  yaml << std::ifstream(dir + "/g.yaml").rdbuf();
+  EXPECT_NE(yaml.str().find("image: g.png"), std::string::npos);
+  EXPECT_NE(yaml.str().find("resolution: 0.1"), std::string::npos);
+  EXPECT_GT(fs::file_size(dir + "/m.3Dscene"), 100u);
+  EXPECT_FALSE(cv::imread(dir + "/t.png").empty());
+}
+
+TEST(MapExport, BadInputsFailCleanly) {
+  const auto dir = gmc::testdata::scratchDir("map_export_bad");
+  EXPECT_EQ(runExport({}), 2);
+  EXPECT_EQ(runExport({dir + "/none.bt", "--ply", dir + "/x.ply"}), 1);
+  std::ofstream(dir + "/junk.bt") << "not an octree";
+  EXPECT_EQ(runExport({dir + "/junk.bt", "--ply", dir + "/x.ply"}), 1);
+  const auto map = makeMap(dir);
+  EXPECT_EQ(runExport({map}), 2);  // nothing to export
+  EXPECT_EQ(runExport({map, "--grid", dir + "/g.png", "--height-band", "2,1"}), 2);
+  EXPECT_EQ(runExport({map, "--grid-yaml", dir + "/g.yaml"}), 2);
+  EXPECT_FALSE(fs::exists(dir + "/x.ply"));
+  EXPECT_FALSE(fs::exists(dir + "/g.png"));
+}
+
+}  // namespace
