@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "gmc/apps/eval_app.h"
+#include "run_app.h"
 #include "test_data.h"
 
 namespace {
@@ -16,13 +17,8 @@ std::string slurp(const std::string& p) {
   return ss.str();
 }
 
-int runEval(const std::vector<std::string>& args) {
-  std::vector<std::string> argv_s = {"gmc-eval"};
-  argv_s.insert(argv_s.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& s : argv_s) argv.push_back(s.data());
-  gmc::apps::EvalApp app;
-  return gmc::apps::runMain(app, "gmc-eval", static_cast<int>(argv.size()), argv.data());
+int runEval(std::vector<std::string> args) {
+  return gmc::testdata::runApp<gmc::apps::EvalApp>("gmc-eval", std::move(args));
 }
 
 TEST(EvalApp, ReferenceTrajectoryJsonAndPlot) {

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "gmc/apps/map_export_app.h"
+#include "run_app.h"
 #include "test_data.h"
 
 namespace {
@@ -15,11 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 int runExport(std::vector<std::string> args) {
-  args.insert(args.begin(), "gmc-map-export");
-  std::vector<char*> argv;
-  for (auto& s : args) argv.push_back(s.data());
-  gmc::apps::MapExportApp app;
-  return gmc::apps::runMain(app, "gmc-map-export", static_cast<int>(argv.size()), argv.data());
+  return gmc::testdata::runApp<gmc::apps::MapExportApp>("gmc-map-export", std::move(args));
 }
 
 /// A 1 m x 1 m wall (x, z) at y = 2 and free space in front of it, 0.1 m voxels.

@@ -11,6 +11,7 @@
 
 #include "gmc/apps/rgbd_mapping_app.h"
 #include "gmc/datasets/evaluation.h"
+#include "run_app.h"
 #include "test_data.h"
 
 namespace {
@@ -18,11 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 int runMapping(std::vector<std::string> args) {
-  args.insert(args.begin(), "gmc-rgbd-mapping");
-  std::vector<char*> argv;
-  for (auto& s : args) argv.push_back(s.data());
-  gmc::apps::RgbdMappingApp app;
-  return gmc::apps::runMain(app, "gmc-rgbd-mapping", static_cast<int>(argv.size()), argv.data());
+  return gmc::testdata::runApp<gmc::apps::RgbdMappingApp>("gmc-rgbd-mapping", std::move(args));
 }
 
 /// A TUM-layout sequence of a textured wall 2 m in front of a camera that slides 1 cm per

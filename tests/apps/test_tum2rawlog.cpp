@@ -8,6 +8,7 @@
 #include "gmc/apps/tum2rawlog_app.h"
 #include "gmc/datasets/source.h"
 #include "gmc/datasets/tum.h"
+#include "run_app.h"
 #include "test_data.h"
 
 namespace {
@@ -15,11 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 int runConvert(std::vector<std::string> args) {
-  args.insert(args.begin(), "gmc-tum2rawlog");
-  std::vector<char*> argv;
-  for (auto& s : args) argv.push_back(s.data());
-  gmc::apps::Tum2RawlogApp app;
-  return gmc::apps::runMain(app, "gmc-tum2rawlog", static_cast<int>(argv.size()), argv.data());
+  return gmc::testdata::runApp<gmc::apps::Tum2RawlogApp>("gmc-tum2rawlog", std::move(args));
 }
 
 std::string runCommand(const std::string& cmd, int& status) {

@@ -7,6 +7,7 @@
 
 #include "gmc/apps/sim_app.h"
 #include "gmc/sim/simulator.h"
+#include "run_app.h"
 #include "test_data.h"
 
 namespace {
@@ -146,11 +147,7 @@ std::string slurp(const fs::path& p) {
 }
 
 int runSim(std::vector<std::string> args) {
-  args.insert(args.begin(), "gmc-sim");
-  std::vector<char*> argv;
-  for (auto& s : args) argv.push_back(s.data());
-  gmc::apps::SimApp app;
-  return gmc::apps::runMain(app, "gmc-sim", static_cast<int>(argv.size()), argv.data());
+  return gmc::testdata::runApp<gmc::apps::SimApp>("gmc-sim", std::move(args));
 }
 
 TEST(SimApp, SameSeedGivesByteIdenticalOutput) {
