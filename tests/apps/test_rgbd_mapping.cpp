@@ -9,6 +9,13 @@
 #include <fstream>
 #include <random>
 
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/math/CMatrixDynamic.h>
+#include <mrpt/obs/CRawlog.h>
+#include <mrpt/obs/TPixelLabelInfo.h>
+#include <mrpt/serialization/CArchive.h>
+
+#include "gmc/apps/rawlog_filter_app.h"
 #include "gmc/apps/rgbd_mapping_app.h"
 #include "gmc/datasets/evaluation.h"
 #include "run_app.h"
@@ -104,6 +111,30 @@ TEST(RgbdMappingApp, ConfigurationErrorsFailWithoutOutputs) {
   EXPECT_EQ(runMapping({root + "/missing.ini", seq, "--out", root + "/o6"}), 1);
   EXPECT_EQ(runMapping({ini("f.ini", ""), seq}), 2);  // no --out
   for (int i = 1; i <= 6; ++i) EXPECT_FALSE(fs::exists(root + "/o" + std::to_string(i) + "/trajectory_tum.txt"));
+}
+
+TEST(RawlogFilterApp, WritesLabelledObservationsMrptReads) {
+  const auto root = gmc::testdata::scratchDir("rawlog_filter");
+  const auto seq = makeWallSequence(root + "/seq", 6);
+  std::ofstream(root + "/f.ini") << "[Filters]\nchain = decimate, gmc\n[Decimate]\nkeep_every = 2\n";
+  ASSERT_EQ(gmc::testdata::runApp<gmc::apps::RawlogFilterApp>("gmc-rawlog-filter",
+                                                             {root + "/f.ini", seq, root + "/out.rawlog"}),
+            0);
+  mrpt::io::CFileGZInputStream in(root + "/out.rawlog");
+  auto archive = mrpt::serialization::archiveFrom(in);
+  size_t n = 0, entry = 0;
+  mrpt::obs::CActionCollection::Ptr acts;
+  mrpt::obs::CSensoryFrame::Ptr sf;
+  mrpt::obs::CObservation::Ptr obs;
+  while (mrpt::obs::CRawlog::getActionObservationPairOrObservation(archive, acts, sf, obs, entry)) {
+    auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(obs);
+    ASSERT_TRUE(scan);
+    ASSERT_TRUE(scan->hasPixelLabels());
+    EXPECT_EQ(scan->pixelLabels->getLabelName(0), "dynamic");
+    ++n;
+  }
+  EXPECT_EQ(n, 3u);  // every second of 6 frames
+  EXPECT_EQ(gmc::testdata::runApp<gmc::apps::RawlogFilterApp>("gmc-rawlog-filter", {root + "/f.ini", seq}), 2);
 }
 
 }  // namespace

@@ -99,6 +99,20 @@ gmc::PinholeCamera cameraFromOptions(const DatasetOptions& o) {
 
 }  // namespace
 
+PipelineConfig loadPipelineConfig(const mrpt::config::CConfigFileBase& ini, const std::string& source) {
+  PipelineConfig c;
+  cfg::loadSection(ini, "Dataset", c.dataset, source);
+  cfg::loadSection(ini, "Playback", c.playback, source);
+  cfg::loadSection(ini, "Output", c.output, source);
+  cfg::loadSection(ini, "Mapping", c.map, source);
+  const auto unknown = cfg::unknownSections(
+      ini, {"Dataset", "Playback", "Output", "Mapping", "Filters", "GmcFilter", "Frontend", "GMS",
+            "GMC", "Odometry", "Refinement", "DynamicMask", "DepthRange", "Decimate"});
+  if (!unknown.empty()) throw cfg::ConfigError(source + ": unknown section [" + unknown.front() + "]");
+  c.camera = cameraFromOptions(c.dataset);
+  return c;
+}
+
 void RgbdMappingApp::scoreAgainstMask(const datasets::RgbdFrame& frame,
                                       const vo::FrameTracking& tracking, PipelineReport& report) const {
   const cv::Mat mask = loadMask(masks_dir_, frame.stamp);
@@ -138,21 +152,13 @@ int RgbdMappingApp::run() {
   // --- configuration (strict: every section we own is checked)
   auto ini = cfg::loadIniFile(config_path_);
   cfg::applyOverrides(ini, overrides_);
-  DatasetOptions dataset;
-  PlaybackOptions playback;
-  OutputOptions output;
-  mapping::StaticMapOptions map_options;
-  cfg::loadSection(ini, "Dataset", dataset, config_path_);
-  cfg::loadSection(ini, "Playback", playback, config_path_);
-  cfg::loadSection(ini, "Output", output, config_path_);
-  cfg::loadSection(ini, "Mapping", map_options, config_path_);
+  const PipelineConfig config = loadPipelineConfig(ini, config_path_);
+  const DatasetOptions& dataset = config.dataset;
+  const PlaybackOptions& playback = config.playback;
+  const OutputOptions& output = config.output;
+  const mapping::StaticMapOptions& map_options = config.map;
   filters::FilterChain chain = filters::buildChain(ini, config_path_);
-  const auto unknown = cfg::unknownSections(
-      ini, {"Dataset", "Playback", "Output", "Mapping", "Filters", "GmcFilter", "Frontend", "GMS",
-            "GMC", "Odometry", "Refinement", "DynamicMask", "DepthRange", "Decimate"});
-  if (!unknown.empty()) throw AppError(config_path_ + ": unknown section [" + unknown.front() + "]");
-
-  const gmc::PinholeCamera camera = cameraFromOptions(dataset);
+  const gmc::PinholeCamera& camera = config.camera;
   std::unique_ptr<datasets::RgbdSource> source = datasets::openRgbdSource(input_path_, camera);
 
   // Ground truth, to anchor the first pose (maps comparable with a simulated scene).

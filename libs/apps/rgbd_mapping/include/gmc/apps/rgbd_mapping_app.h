@@ -8,6 +8,9 @@
 #include "gmc/apps/app.h"
 #include "gmc/apps/pipeline_report.h"
 #include "gmc/datasets/frame.h"
+#include "gmc/mapping/static_map.h"
+
+#include <mrpt/config/CConfigFileBase.h>
 
 namespace gmc::apps {
 
@@ -64,6 +67,18 @@ struct OutputOptions {
     v("map_insert_every", map_insert_every, 1, 1000000, "insert every N-th tracked frame");
   }
 };
+
+/// The INI sections gmc-rgbd-mapping and gmc-rawlog-filter share, loaded strictly.
+struct PipelineConfig {
+  DatasetOptions dataset;
+  PlaybackOptions playback;
+  OutputOptions output;
+  mapping::StaticMapOptions map;
+  PinholeCamera camera;  ///< from [Dataset] camera (TUM folders; rawlogs carry their own)
+};
+/// Throws cfg::ConfigError naming the file, section and key; also rejects sections that
+/// neither the apps nor the filters read.
+PipelineConfig loadPipelineConfig(const mrpt::config::CConfigFileBase& ini, const std::string& source);
 
 class RgbdMappingApp : public App {
  public:
