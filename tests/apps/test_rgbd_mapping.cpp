@@ -10,6 +10,7 @@
 #include <random>
 
 #include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/math/CMatrixDynamic.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/obs/TPixelLabelInfo.h>
