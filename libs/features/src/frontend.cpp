@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <limits>
 
@@ -84,6 +85,19 @@ std::vector<FeatureMatch> uniqueByCurrent(std::vector<FeatureMatch> matches, siz
 double depthAtKeypoint(const cv::Mat& depth, double depth_units, float u, float v,
                        double min_depth, double max_depth) {
   if (depth.empty()) return 0;
+  // Sub-pixel keypoints on one surface: interpolate (corners on a slanted plane would
+  // otherwise take the depth of the neighbouring pixel centre).
+  const int x0 = static_cast<int>(std::floor(u)), y0 = static_cast<int>(std::floor(v));
+  if (x0 >= 0 && y0 >= 0 && x0 + 1 < depth.cols && y0 + 1 < depth.rows) {
+    const double a = depth.at<std::uint16_t>(y0, x0), b = depth.at<std::uint16_t>(y0, x0 + 1),
+                 c = depth.at<std::uint16_t>(y0 + 1, x0), d = depth.at<std::uint16_t>(y0 + 1, x0 + 1);
+    const double lo = std::min({a, b, c, d}), hi = std::max({a, b, c, d});
+    if (lo > 0 && hi - lo <= 0.02 * lo) {
+      const double fx = u - x0, fy = v - y0;
+      const double z = ((a * (1 - fx) + b * fx) * (1 - fy) + (c * (1 - fx) + d * fx) * fy) * depth_units;
+      return z >= min_depth && z <= max_depth ? z : 0.0;
+    }
+  }
   const int x = static_cast<int>(u + 0.5f), y = static_cast<int>(v + 0.5f);
   if (x < 0 || y < 0 || x >= depth.cols || y >= depth.rows) return 0;
   auto valid = [&](std::uint16_t raw) {
@@ -129,6 +143,9 @@ FeatureSet Frontend::extract(const cv::Mat& gray, const cv::Mat& depth, double d
   std::vector<cv::Point2f> corners;
   cv::goodFeaturesToTrack(gray, corners, options_.max_features, options_.quality_level,
                           options_.min_distance, mask, options_.block_size, false);
+  if (options_.subpixel && !corners.empty())
+    cv::cornerSubPix(gray, corners, cv::Size(3, 3), cv::Size(-1, -1),
+                     cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 10, 0.01));
   set.keypoints.reserve(corners.size());
   for (const auto& c : corners) set.keypoints.emplace_back(c, 31.f, 0.f);
   if (set.keypoints.empty()) return set;

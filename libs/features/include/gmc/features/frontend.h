@@ -20,6 +20,7 @@ struct FrontendOptions {
   double quality_level = 0.005;   ///< GFTT quality relative to the strongest corner
   double min_distance = 10.0;     ///< px between corners (the paper's setting)
   int block_size = 3;             ///< GFTT covariance window
+  bool subpixel = true;           ///< refine corners to sub-pixel (cv::cornerSubPix)
   int border = 20;                ///< px kept free at the image border (descriptor patch)
   double min_depth = 0.2;         ///< m; closer depth readings are ignored
   double max_depth = 6.0;         ///< m; farther depth readings are ignored
@@ -35,6 +36,7 @@ struct FrontendOptions {
     v("quality_level", quality_level, 1e-6, 1.0, "GFTT quality relative to the strongest corner");
     v("min_distance", min_distance, 0.0, 200.0, "minimum px between corners");
     v("block_size", block_size, 3, 15, "GFTT covariance window (px)");
+    v("subpixel", subpixel, "refine corners to sub-pixel accuracy");
     v("border", border, 16, 200, "px kept free at the image border");
     v("min_depth", min_depth, 0.0, 100.0, "ignore depth below (m)");
     v("max_depth", max_depth, 0.01, 100.0, "ignore depth beyond (m)");
@@ -91,8 +93,9 @@ class Frontend {
   cv::Ptr<cv::ORB> orb_;
 };
 
-/// Depth in metres at a keypoint: the pixel's reading, or the median of the valid
-/// readings in its 3x3 neighbourhood; 0 when none is within [min_depth, max_depth].
+/// Depth in metres at a keypoint: bilinear between the four surrounding readings when they
+/// agree within 2 % (one surface), else the nearest pixel's reading, else the median of
+/// the valid readings in its 3x3 neighbourhood; 0 when none is within [min_depth, max_depth].
 double depthAtKeypoint(const cv::Mat& depth, double depth_units, float u, float v,
                        double min_depth, double max_depth);
 
