@@ -19,12 +19,12 @@ int runExport(std::vector<std::string> args) {
   return gmc::testdata::runApp<gmc::apps::MapExportApp>("gmc-map-export", std::move(args));
 }
 
-/// A 1 m x 1 m wall (x, z) at y = 2 and free space in front of it, 0.1 m voxels.
+/// A 1 m x 1 m wall (x, z) at y = 2.05 and free space in front of it, 0.1 m voxels.
 std::string makeMap(const std::string& dir) {
   octomap::OcTree tree(0.1);
   octomap::Pointcloud cloud;
-  for (double x = -0.45; x < 0.5; x += 0.1)
-    for (double z = 0.05; z < 1.0; z += 0.1) cloud.push_back(x, 2.0, z);
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) cloud.push_back(-0.45 + 0.1 * i, 2.05, 0.05 + 0.1 * j);
   tree.insertPointCloud(cloud, octomap::point3d(0, 0, 0.5));
   const std::string path = dir + "/map.bt";
   tree.writeBinary(path);
@@ -55,6 +55,23 @@ TEST(MapExport, WritesPlyGridYamlSceneAndTopView) {
   EXPECT_FALSE(cv::imread(dir + "/t.png").empty());
 }
 
+TEST(MapExport, WritesAsciiPly) {
+  const auto dir = gmc::testdata::scratchDir("map_export_ascii");
+  ASSERT_EQ(runExport({makeMap(dir), "--ply", dir + "/m.ply", "--ply-format", "ascii"}), 0);
+  std::ifstream ply(dir + "/m.ply");
+  std::string line;
+  while (std::getline(ply, line) && line != "end_header") {
+  }
+  size_t rows = 0;
+  double x, y, z;
+  int r, g, b;
+  while (ply >> x >> y >> z >> r >> g >> b) {
+    ++rows;
+    EXPECT_NEAR(y, 2.05, 1e-5);
+  }
+  EXPECT_EQ(rows, 100u);
+}
+
 TEST(MapExport, BadInputsFailCleanly) {
   const auto dir = gmc::testdata::scratchDir("map_export_bad");
   EXPECT_EQ(runExport({}), 2);
@@ -64,9 +81,16 @@ TEST(MapExport, BadInputsFailCleanly) {
   const auto map = makeMap(dir);
   EXPECT_EQ(runExport({map}), 2);  // nothing to export
   EXPECT_EQ(runExport({map, "--grid", dir + "/g.png", "--height-band", "2,1"}), 2);
+  EXPECT_EQ(runExport({map, "--grid", dir + "/g.png", "--height-band", "0,1junk"}), 2);
   EXPECT_EQ(runExport({map, "--grid-yaml", dir + "/g.yaml"}), 2);
+  EXPECT_EQ(runExport({map, "--ply", dir + "/x.ply", "--ply-format", "xml"}), 2);
+  EXPECT_EQ(runExport({map, "--ply", dir + "/x.ply", "--bogus"}), 2);
+  EXPECT_EQ(runExport({map, "--ply", dir + "/missing_dir/x.ply"}), 1);
   EXPECT_FALSE(fs::exists(dir + "/x.ply"));
   EXPECT_FALSE(fs::exists(dir + "/g.png"));
+  EXPECT_FALSE(fs::exists(dir + "/missing_dir"));
+  for (const auto& entry : fs::directory_iterator(dir))  // no temporary left behind
+    EXPECT_TRUE(entry.path().filename() == "junk.bt" || entry.path().filename() == "map.bt") << entry.path();
 }
 
 }  // namespace

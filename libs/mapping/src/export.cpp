@@ -32,11 +32,15 @@ void forEachLeaf(const octomap::OcTree& tree, UpAxis up, F&& f) {
 }
 
 cv::Vec3b heightColour(double z, double lo, double hi) {
+  // One colour-map call for all 256 levels, not one per voxel.
+  static const cv::Mat lut = [] {
+    cv::Mat levels(1, 256, CV_8UC1), colours;
+    for (int i = 0; i < 256; ++i) levels.at<std::uint8_t>(0, i) = static_cast<std::uint8_t>(i);
+    cv::applyColorMap(levels, colours, cv::COLORMAP_TURBO);
+    return colours;
+  }();
   const double t = hi > lo ? std::clamp((z - lo) / (hi - lo), 0.0, 1.0) : 0.5;
-  cv::Mat1b v(1, 1, static_cast<std::uint8_t>(t * 255));
-  cv::Mat c;
-  cv::applyColorMap(v, c, cv::COLORMAP_TURBO);
-  return c.at<cv::Vec3b>(0, 0);
+  return lut.at<cv::Vec3b>(0, static_cast<int>(t * 255));
 }
 
 struct Bounds {
@@ -49,25 +53,33 @@ struct Bounds {
 
 }  // namespace
 
-size_t writePly(const octomap::OcTree& tree, const std::string& path, UpAxis up) {
+size_t writePly(const octomap::OcTree& tree, const std::string& path, UpAxis up, PlyFormat format) {
   std::vector<Cell> cells;
   Bounds b;
   forEachLeaf(tree, up, [&](const Cell& c) {
     if (c.occupied) cells.push_back(c), b.add(c);
   });
+  const bool ascii = format == PlyFormat::Ascii;
   datasets::AtomicFile file(path);
   {
     std::ofstream out(file.tempPath(), std::ios::binary);
-    out << "ply\nformat binary_little_endian 1.0\ncomment GMC-RGBD static map, occupied voxel centres\n"
+    out << "ply\nformat " << (ascii ? "ascii" : "binary_little_endian")
+        << " 1.0\ncomment GMC-RGBD static map, occupied voxel centres\n"
         << "element vertex " << cells.size()
         << "\nproperty float x\nproperty float y\nproperty float z\n"
         << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+    out.precision(7);
     for (const auto& c : cells) {
       const float xyz[3] = {static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
       const cv::Vec3b bgr = heightColour(c.z, b.z0, b.z1);
       const std::uint8_t rgb[3] = {bgr[2], bgr[1], bgr[0]};
-      out.write(reinterpret_cast<const char*>(xyz), sizeof xyz);
-      out.write(reinterpret_cast<const char*>(rgb), sizeof rgb);
+      if (ascii) {
+        out << xyz[0] << ' ' << xyz[1] << ' ' << xyz[2] << ' ' << int(rgb[0]) << ' ' << int(rgb[1]) << ' '
+            << int(rgb[2]) << '\n';
+      } else {  // x86/ARM hosts are little-endian, as the header declares
+        out.write(reinterpret_cast<const char*>(xyz), sizeof xyz);
+        out.write(reinterpret_cast<const char*>(rgb), sizeof rgb);
+      }
     }
     if (!out) throw std::runtime_error(path + ": cannot write");
   }
@@ -78,23 +90,27 @@ size_t writePly(const octomap::OcTree& tree, const std::string& path, UpAxis up)
 OccupancyGrid occupancyGrid(const octomap::OcTree& tree, const HeightBand& band, UpAxis up) {
   OccupancyGrid g;
   g.resolution = tree.getResolution();
-  Bounds b;
+  // Footprint of the voxels in the band, by their corners (pixel edges = voxel edges).
+  double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
   forEachLeaf(tree, up, [&](const Cell& c) {
-    if (c.z >= band.min && c.z <= band.max) b.add(c);
+    if (c.z + c.size / 2 < band.min || c.z - c.size / 2 > band.max) return;
+    x0 = std::min(x0, c.x - c.size / 2), y0 = std::min(y0, c.y - c.size / 2);
+    x1 = std::max(x1, c.x + c.size / 2), y1 = std::max(y1, c.y + c.size / 2);
   });
-  if (b.x1 < b.x0) {
+  if (x1 < x0) {
     g.image = cv::Mat(1, 1, CV_8UC1, cv::Scalar(205));
     return g;
   }
-  const int w = static_cast<int>(std::ceil((b.x1 - b.x0) / g.resolution)) + 2;
-  const int h = static_cast<int>(std::ceil((b.y1 - b.y0) / g.resolution)) + 2;
-  g.origin_x = b.x0 - g.resolution;
-  g.origin_y = b.y0 - g.resolution;
+  // One unknown cell of border on every side.
+  const int w = static_cast<int>(std::lround((x1 - x0) / g.resolution)) + 2;
+  const int h = static_cast<int>(std::lround((y1 - y0) / g.resolution)) + 2;
+  g.origin_x = x0 - g.resolution;
+  g.origin_y = y0 - g.resolution;
   g.image = cv::Mat(h, w, CV_8UC1, cv::Scalar(205));
   auto paint = [&](const Cell& c, std::uint8_t value) {
     const int n = std::max(1, static_cast<int>(std::lround(c.size / g.resolution)));
-    const int cx = static_cast<int>((c.x - c.size / 2 - g.origin_x) / g.resolution + 0.5);
-    const int cy = static_cast<int>((c.y - c.size / 2 - g.origin_y) / g.resolution + 0.5);
+    const int cx = static_cast<int>(std::lround((c.x - c.size / 2 - g.origin_x) / g.resolution));
+    const int cy = static_cast<int>(std::lround((c.y - c.size / 2 - g.origin_y) / g.resolution));
     for (int dy = 0; dy < n; ++dy)
       for (int dx = 0; dx < n; ++dx) {
         const int px = cx + dx, py = h - 1 - (cy + dy);  // north up

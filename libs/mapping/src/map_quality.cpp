@@ -1,6 +1,9 @@
 #include "gmc/mapping/map_quality.h"
 
+#include <cmath>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 namespace gmc::mapping {
 
@@ -9,6 +12,8 @@ GroundTruthVoxels::GroundTruthVoxels(double resolution, double max_range, int pi
 
 void GroundTruthVoxels::addFrame(const datasets::RgbdFrame& frame, const cv::Mat& mask,
                                  const Isometry& T_world_camera) {
+  if (frame.depth.type() != CV_16UC1 || mask.type() != CV_8UC1 || mask.size() != frame.depth.size())
+    throw std::invalid_argument(frame.name + ": ground truth needs CV_16UC1 depth and a CV_8UC1 mask of its size");
   for (int v = step_ / 2; v < frame.depth.rows; v += step_)
     for (int u = step_ / 2; u < frame.depth.cols; u += step_) {
       const std::uint16_t raw = frame.depth.at<std::uint16_t>(v, u);
@@ -25,17 +30,24 @@ void GroundTruthVoxels::addFrame(const datasets::RgbdFrame& frame, const cv::Mat
 }
 
 MapQuality GroundTruthVoxels::evaluate(const octomap::OcTree& map) const {
+  return mapping::evaluate(map, *this);
+}
+
+MapQuality evaluate(const octomap::OcTree& map, const GroundTruthVoxels& truth) {
+  if (std::abs(map.getResolution() - truth.resolution()) > 1e-9)
+    throw std::invalid_argument("map resolution " + std::to_string(map.getResolution()) +
+                                " differs from the ground truth's " + std::to_string(truth.resolution()));
   MapQuality q;
   auto occupied = [&](const octomap::OcTreeKey& k) {
     const auto* node = map.search(k);
     return node && map.isNodeOccupied(node);
   };
-  for (const auto& k : dynamic_) {
-    if (static_.count(k)) continue;
+  for (const auto& k : truth.dynamicKeys()) {
+    if (truth.staticKeys().count(k)) continue;
     ++q.dynamic_only_voxels;
     q.ghost_voxels += occupied(k);
   }
-  for (const auto& k : static_) {
+  for (const auto& k : truth.staticKeys()) {
     ++q.static_voxels_seen;
     q.static_voxels_occupied += occupied(k);
   }

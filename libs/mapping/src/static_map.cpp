@@ -1,56 +1,96 @@
 #include "gmc/mapping/static_map.h"
 
+#include <opencv2/imgproc.hpp>
+
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include "gmc/datasets/atomic_file.h"
+#include "gmc/gmc/options.h"
 
 namespace gmc::mapping {
 
-StaticMapBuilder::StaticMapBuilder(const StaticMapOptions& options)
-    : options_(options), tree_(std::make_unique<octomap::OcTree>(options.resolution)) {
+namespace {
+
+octomap::point3d toOcto(const Eigen::Vector3d& p) {
+  return {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())};
+}
+
+}  // namespace
+
+StaticMapBuilder::StaticMapBuilder(const StaticMapOptions& options) : options_(options) {
+  if (const std::string error = validateOptions(options_, "Mapping"); !error.empty())
+    throw std::invalid_argument(error);
+  tree_ = std::make_unique<octomap::OcTree>(options.resolution);
   tree_->setProbHit(options.prob_hit);
   tree_->setProbMiss(options.prob_miss);
   tree_->setClampingThresMin(options.clamp_min);
   tree_->setClampingThresMax(options.clamp_max);
+  if (options.mask_dilate_px > 0)
+    kernel_ = cv::getStructuringElement(cv::MORPH_ELLIPSE,
+                                        cv::Size(2 * options.mask_dilate_px + 1, 2 * options.mask_dilate_px + 1));
 }
 
-void StaticMapBuilder::insertFrame(const datasets::RgbdFrame& frame, const cv::Mat& dynamic_mask,
+bool StaticMapBuilder::insertFrame(const datasets::RgbdFrame& frame, const cv::Mat& dynamic_mask,
                                    const Isometry& T_world_camera) {
+  if (frames_offered_++ % static_cast<size_t>(options_.insert_every_n_frames) != 0) return false;
+  if (frame.depth.type() != CV_16UC1)
+    throw std::invalid_argument(frame.name + ": map insertion needs CV_16UC1 depth");
+  const bool masked = options_.use_dynamic_mask && !dynamic_mask.empty();
+  if (masked && (dynamic_mask.type() != CV_8UC1 || dynamic_mask.size() != frame.depth.size()))
+    throw std::invalid_argument(frame.name + ": dynamic mask must be CV_8UC1 of the depth's size");
+  const cv::Mat* mask = nullptr;
+  if (masked) {
+    if (kernel_.empty()) {
+      mask = &dynamic_mask;
+    } else {
+      cv::dilate(dynamic_mask, dilated_mask_, kernel_);
+      mask = &dilated_mask_;
+    }
+  }
+
   const auto& cam = frame.camera;
   const Eigen::Vector3d origin = T_world_camera.translation();
-  const octomap::point3d o(static_cast<float>(origin.x()), static_cast<float>(origin.y()),
-                           static_cast<float>(origin.z()));
+  const octomap::point3d o = toOcto(origin);
   cloud_.clear();
-  octomap::KeySet free_keys;
-  octomap::KeyRay ray;
+  free_keys_.clear();
+  occupied_keys_.clear();
+  dynamic_ends_.clear();
   const int step = options_.pixel_step;
   for (int v = step / 2; v < frame.depth.rows; v += step) {
     const auto* drow = frame.depth.ptr<std::uint16_t>(v);
-    const auto* mrow = dynamic_mask.empty() || !options_.use_dynamic_mask ? nullptr : dynamic_mask.ptr<std::uint8_t>(v);
+    const auto* mrow = mask ? mask->ptr<std::uint8_t>(v) : nullptr;
     for (int u = step / 2; u < frame.depth.cols; u += step) {
       const double z = drow[u] * frame.depth_units;
       if (drow[u] == 0 || z < options_.min_range) continue;
       const Eigen::Vector3d p = T_world_camera * cam.unproject(u, v, z);
       if (mrow && mrow[u]) {
-        if (!options_.clear_dynamic_rays) continue;
-        // Free space up to just before the walker: the ray proves it empty.
-        const double len = (p - origin).norm();
-        const double keep = std::min(len, options_.max_range) - options_.dynamic_ray_margin;
-        if (keep <= 0) continue;
-        const Eigen::Vector3d end = origin + (p - origin) * (keep / len);
-        if (tree_->computeRayKeys(o, octomap::point3d(static_cast<float>(end.x()), static_cast<float>(end.y()),
-                                                      static_cast<float>(end.z())),
-                                  ray))
-          free_keys.insert(ray.begin(), ray.end());
+        if (options_.clear_dynamic_rays) dynamic_ends_.push_back(p);
         continue;
       }
-      cloud_.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+      cloud_.push_back(toOcto(p));
     }
   }
-  tree_->insertPointCloud(cloud_, o, options_.max_range, false, options_.discretize);
-  for (const auto& key : free_keys) tree_->updateNode(key, false, false);
+  // The update insertPointCloud() would make, plus the free space in front of people;
+  // a voxel holding a static endpoint of this frame is never cleared by it.
+  if (options_.discretize)
+    tree_->computeDiscreteUpdate(cloud_, o, free_keys_, occupied_keys_, options_.max_range);
+  else
+    tree_->computeUpdate(cloud_, o, free_keys_, occupied_keys_, options_.max_range);
+  for (const Eigen::Vector3d& p : dynamic_ends_) {
+    // The ray proves the space up to just before the person empty.
+    const double len = (p - origin).norm();
+    const double keep = std::min(len, options_.max_range) - options_.dynamic_ray_margin;
+    if (keep <= 0) continue;
+    if (!tree_->computeRayKeys(o, toOcto(origin + (p - origin) * (keep / len)), ray_)) continue;
+    for (const auto& key : ray_)
+      if (!occupied_keys_.count(key)) free_keys_.insert(key);
+  }
+  for (const auto& key : free_keys_) tree_->updateNode(key, false);
+  for (const auto& key : occupied_keys_) tree_->updateNode(key, true);
   ++frames_;
+  return true;
 }
 
 MapStats StaticMapBuilder::stats() const {

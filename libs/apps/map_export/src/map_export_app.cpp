@@ -11,7 +11,7 @@ namespace gmc::apps {
 namespace {
 const char* kUsage =
     "usage: gmc-map-export <map.bt> [--ply OUT.ply] [--grid OUT.png] [--grid-yaml OUT.yaml] "
-    "[--height-band zmin,zmax] [--scene OUT.3Dscene] [--top-view OUT.png] [--up z|-y]";
+    "[--height-band zmin,zmax] [--scene OUT.3Dscene] [--top-view OUT.png] [--up z|-y] [--ply-format binary|ascii]";
 }
 
 void MapExportApp::initialize(const std::vector<std::string>& args) {
@@ -20,7 +20,7 @@ void MapExportApp::initialize(const std::vector<std::string>& args) {
     const std::string& a = args[i];
     std::string* target = a == "--ply" ? &ply_ : a == "--grid" ? &grid_ : a == "--grid-yaml" ? &grid_yaml_
                         : a == "--scene" ? &scene_ : a == "--top-view" ? &top_view_ : a == "--up" ? &up_
-                        : a == "--height-band" ? &band : nullptr;
+                        : a == "--height-band" ? &band : a == "--ply-format" ? &ply_format_ : nullptr;
     if (target) {
       if (i + 1 >= args.size()) throw AppError(a + " needs a value\n" + kUsage, 2);
       *target = args[++i];
@@ -37,9 +37,12 @@ void MapExportApp::initialize(const std::vector<std::string>& args) {
     throw AppError("nothing to export: give --ply, --grid, --scene or --top-view\n" + std::string(kUsage), 2);
   if (!grid_yaml_.empty() && grid_.empty()) throw AppError("--grid-yaml needs --grid", 2);
   if (up_ != "z" && up_ != "-y") throw AppError("--up: expected z or -y", 2);
+  if (ply_format_ != "binary" && ply_format_ != "ascii") throw AppError("--ply-format: expected binary or ascii", 2);
   if (!band.empty()) {
     char comma = 0;
-    if (std::sscanf(band.c_str(), "%lf%c%lf", &zmin_, &comma, &zmax_) != 3 || comma != ',' || zmin_ >= zmax_)
+    int used = 0;
+    if (std::sscanf(band.c_str(), "%lf%c%lf%n", &zmin_, &comma, &zmax_, &used) != 3 || comma != ',' ||
+        used != static_cast<int>(band.size()) || !(zmin_ < zmax_))
       throw AppError("--height-band: expected zmin,zmax with zmin < zmax", 2);
   }
 }
@@ -50,7 +53,10 @@ int MapExportApp::run() {
   if (!tree->readBinary(map_)) throw AppError(map_ + ": not a readable OctoMap .bt file");
   const auto up = up_ == "z" ? mapping::UpAxis::Z : mapping::UpAxis::MinusY;
   const mapping::HeightBand band{zmin_, zmax_};
-  if (!ply_.empty()) std::printf("%s: %zu occupied voxels\n", ply_.c_str(), mapping::writePly(*tree, ply_, up));
+  if (!ply_.empty()) {
+    const auto format = ply_format_ == "ascii" ? mapping::PlyFormat::Ascii : mapping::PlyFormat::BinaryLittleEndian;
+    std::printf("%s: %zu occupied voxels\n", ply_.c_str(), mapping::writePly(*tree, ply_, up, format));
+  }
   if (!grid_.empty()) {
     const auto grid = mapping::occupancyGrid(*tree, band, up);
     mapping::writeGrid(grid, grid_, grid_yaml_.empty() ? std::nullopt : std::optional<std::string>(grid_yaml_));

@@ -17,8 +17,12 @@ struct HeightBand {
   double min = -1e9, max = 1e9;  ///< along the up axis (m)
 };
 
-/// Occupied voxel centres coloured by height, binary little-endian PLY, written atomically.
-size_t writePly(const octomap::OcTree& tree, const std::string& path, UpAxis up);
+enum class PlyFormat { BinaryLittleEndian, Ascii };
+
+/// Occupied voxel centres (float x y z, up axis as z) coloured by height (uchar red green
+/// blue), written atomically. Returns the number of vertices.
+size_t writePly(const octomap::OcTree& tree, const std::string& path, UpAxis up,
+                PlyFormat format = PlyFormat::BinaryLittleEndian);
 
 /// Occupancy grid in the ROS map_server convention: 0 = occupied (any occupied voxel in
 /// the band), 254 = free (known free in the band), 205 = unknown; north (+y or -z) up.
