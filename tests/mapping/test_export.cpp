@@ -3,6 +3,7 @@
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CPointCloudColoured.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -141,6 +142,17 @@ TEST(Export, TopViewShowsTheWallRow) {
   const OccupancyGrid g = occupancyGrid(wallMap(), {}, UpAxis::Z);
   ASSERT_EQ(top.type(), CV_8UC3);
   EXPECT_EQ(top.size(), cv::Size(g.image.cols * 2, g.image.rows * 2));
+  // Coloured exactly where the grid is occupied, white where it is free.
+  cv::Mat occupied_big, free_big;
+  cv::resize(g.image == 0, occupied_big, top.size(), 0, 0, cv::INTER_NEAREST);
+  cv::resize(g.image == 254, free_big, top.size(), 0, 0, cv::INTER_NEAREST);
+  cv::Mat grey, white;
+  cv::inRange(top, cv::Scalar(235, 235, 235), cv::Scalar(235, 235, 235), grey);
+  cv::inRange(top, cv::Scalar(255, 255, 255), cv::Scalar(255, 255, 255), white);
+  const cv::Mat coloured = ~(grey | white);
+  EXPECT_EQ(cv::countNonZero(coloured), 10 * 4);
+  EXPECT_EQ(cv::countNonZero(coloured != occupied_big), 0);
+  EXPECT_EQ(cv::countNonZero(white != free_big), 0);
 }
 
 TEST(Export, UnwritablePathsThrowAndLeaveNothing) {

@@ -51,6 +51,25 @@ struct Bounds {
   }
 };
 
+bool overlapsBand(const Cell& c, const HeightBand& band) {
+  return c.z + c.size / 2 >= band.min && c.z - c.size / 2 <= band.max;
+}
+
+/// Calls f(col, row) for every grid pixel under the voxel's footprint (a pruned voxel
+/// covers several); rows run north to south.
+template <class F>
+void forEachPixel(const cv::Mat& image, double origin_x, double origin_y, double resolution, const Cell& c,
+                  F&& f) {
+  const int n = std::max(1, static_cast<int>(std::lround(c.size / resolution)));
+  const int cx = static_cast<int>(std::lround((c.x - c.size / 2 - origin_x) / resolution));
+  const int cy = static_cast<int>(std::lround((c.y - c.size / 2 - origin_y) / resolution));
+  for (int dy = 0; dy < n; ++dy)
+    for (int dx = 0; dx < n; ++dx) {
+      const int px = cx + dx, py = image.rows - 1 - (cy + dy);
+      if (px >= 0 && py >= 0 && px < image.cols && py < image.rows) f(px, py);
+    }
+}
+
 }  // namespace
 
 size_t writePly(const octomap::OcTree& tree, const std::string& path, UpAxis up, PlyFormat format) {
@@ -93,7 +112,7 @@ OccupancyGrid occupancyGrid(const octomap::OcTree& tree, const HeightBand& band,
   // Footprint of the voxels in the band, by their corners (pixel edges = voxel edges).
   double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
   forEachLeaf(tree, up, [&](const Cell& c) {
-    if (c.z + c.size / 2 < band.min || c.z - c.size / 2 > band.max) return;
+    if (!overlapsBand(c, band)) return;
     x0 = std::min(x0, c.x - c.size / 2), y0 = std::min(y0, c.y - c.size / 2);
     x1 = std::max(x1, c.x + c.size / 2), y1 = std::max(y1, c.y + c.size / 2);
   });
@@ -107,21 +126,12 @@ OccupancyGrid occupancyGrid(const octomap::OcTree& tree, const HeightBand& band,
   g.origin_x = x0 - g.resolution;
   g.origin_y = y0 - g.resolution;
   g.image = cv::Mat(h, w, CV_8UC1, cv::Scalar(205));
-  auto paint = [&](const Cell& c, std::uint8_t value) {
-    const int n = std::max(1, static_cast<int>(std::lround(c.size / g.resolution)));
-    const int cx = static_cast<int>(std::lround((c.x - c.size / 2 - g.origin_x) / g.resolution));
-    const int cy = static_cast<int>(std::lround((c.y - c.size / 2 - g.origin_y) / g.resolution));
-    for (int dy = 0; dy < n; ++dy)
-      for (int dx = 0; dx < n; ++dx) {
-        const int px = cx + dx, py = h - 1 - (cy + dy);  // north up
-        if (px < 0 || py < 0 || px >= w || py >= h) continue;
-        auto& v = g.image.at<std::uint8_t>(py, px);
-        if (value == 0 || v == 205) v = value;  // occupied wins over free
-      }
-  };
   forEachLeaf(tree, up, [&](const Cell& c) {
-    if (c.z + c.size / 2 < band.min || c.z - c.size / 2 > band.max) return;
-    paint(c, c.occupied ? 0 : 254);
+    if (!overlapsBand(c, band)) return;
+    forEachPixel(g.image, g.origin_x, g.origin_y, g.resolution, c, [&](int px, int py) {
+      auto& v = g.image.at<std::uint8_t>(py, px);
+      if (c.occupied || v == 205) v = c.occupied ? 0 : 254;  // occupied wins over free
+    });
   });
   return g;
 }
@@ -144,21 +154,19 @@ cv::Mat topView(const octomap::OcTree& tree, const HeightBand& band, UpAxis up, 
   cv::Mat top(g.image.rows, g.image.cols, CV_64FC1, cv::Scalar(-1e18));
   Bounds b;
   forEachLeaf(tree, up, [&](const Cell& c) {
-    if (c.occupied && c.z >= band.min && c.z <= band.max) b.add(c);
+    if (c.occupied && overlapsBand(c, band)) b.add(c);
   });
   forEachLeaf(tree, up, [&](const Cell& c) {
-    if (c.z < band.min || c.z > band.max) return;
-    const int px = static_cast<int>((c.x - g.origin_x) / g.resolution);
-    const int py = g.image.rows - 1 - static_cast<int>((c.y - g.origin_y) / g.resolution);
-    if (px < 0 || py < 0 || px >= img.cols || py >= img.rows) return;
-    if (!c.occupied) {
-      if (top.at<double>(py, px) < -1e17) img.at<cv::Vec3b>(py, px) = cv::Vec3b(255, 255, 255);
-      return;
-    }
-    if (c.z > top.at<double>(py, px)) {
-      top.at<double>(py, px) = c.z;
-      img.at<cv::Vec3b>(py, px) = heightColour(c.z, b.z0, b.z1);
-    }
+    if (!overlapsBand(c, band)) return;
+    forEachPixel(img, g.origin_x, g.origin_y, g.resolution, c, [&](int px, int py) {
+      double& highest = top.at<double>(py, px);
+      if (!c.occupied) {
+        if (highest < -1e17) img.at<cv::Vec3b>(py, px) = cv::Vec3b(255, 255, 255);
+      } else if (c.z > highest) {
+        highest = c.z;
+        img.at<cv::Vec3b>(py, px) = heightColour(c.z, b.z0, b.z1);
+      }
+    });
   });
   cv::resize(img, img, cv::Size(), scale, scale, cv::INTER_NEAREST);
   return img;
