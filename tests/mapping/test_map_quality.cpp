@@ -65,6 +65,18 @@ TEST(MapQuality, MaskedBuilderHasNoGhostsAndMissesOnlyTheHiddenWall) {
   EXPECT_DOUBLE_EQ(good.static_coverage(), 0.96);
 }
 
+TEST(MapQuality, FollowsTheMapsDepthRange) {
+  StaticMapOptions o;
+  o.resolution = kVoxel;
+  o.pixel_step = 1;
+  o.min_range = 0.7;  // the person at 0.55 m is closer: neither mapped nor counted
+  GroundTruthVoxels truth(o);
+  truth.addFrame(patchWithPerson(), personMask(), kIdentity);
+  EXPECT_EQ(truth.dynamicKeys().size(), 0u);
+  EXPECT_EQ(truth.staticKeys().size(), 96u);
+  EXPECT_DOUBLE_EQ(truth.resolution(), kVoxel);
+}
+
 TEST(MapQuality, RejectsMismatchedInputs) {
   const GroundTruthVoxels truth = threeFrameTruth();
   octomap::OcTree other(0.05);

@@ -7,8 +7,11 @@
 
 namespace gmc::mapping {
 
-GroundTruthVoxels::GroundTruthVoxels(double resolution, double max_range, int pixel_step)
-    : grid_(resolution), max_range_(max_range), step_(pixel_step) {}
+GroundTruthVoxels::GroundTruthVoxels(double resolution, double max_range, int pixel_step, double min_range)
+    : grid_(resolution), min_range_(min_range), max_range_(max_range), step_(pixel_step) {}
+
+GroundTruthVoxels::GroundTruthVoxels(const StaticMapOptions& o)
+    : GroundTruthVoxels(o.resolution, o.max_range, o.pixel_step, o.min_range) {}
 
 void GroundTruthVoxels::addFrame(const datasets::RgbdFrame& frame, const cv::Mat& mask,
                                  const Isometry& T_world_camera) {
@@ -18,7 +21,7 @@ void GroundTruthVoxels::addFrame(const datasets::RgbdFrame& frame, const cv::Mat
     for (int u = step_ / 2; u < frame.depth.cols; u += step_) {
       const std::uint16_t raw = frame.depth.at<std::uint16_t>(v, u);
       const double z = raw * frame.depth_units;
-      if (raw == 0 || z > max_range_) continue;
+      if (raw == 0 || z < min_range_ || z > max_range_) continue;
       const Eigen::Vector3d p = T_world_camera * frame.camera.unproject(u, v, z);
       octomap::OcTreeKey key;
       if (!grid_.coordToKeyChecked(octomap::point3d(static_cast<float>(p.x()), static_cast<float>(p.y()),

@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include "gmc/datasets/frame.h"
+#include "gmc/mapping/static_map.h"
 
 namespace gmc::mapping {
 
@@ -25,7 +26,9 @@ struct MapQuality {
 /// same pixel sampling and range as the map builder, so both see the same rays.
 class GroundTruthVoxels {
  public:
-  GroundTruthVoxels(double resolution, double max_range, int pixel_step);
+  GroundTruthVoxels(double resolution, double max_range, int pixel_step, double min_range = 0.0);
+  /// The grid, sampling and depth range of a map built with `map_options`.
+  explicit GroundTruthVoxels(const StaticMapOptions& map_options);
   /// dynamic_mask: CV_8UC1 of the depth's size, non-zero = a person (the simulator's
   /// exact mask, not dilated). Throws std::invalid_argument on a wrong type or size.
   void addFrame(const datasets::RgbdFrame& frame, const cv::Mat& dynamic_mask,
@@ -41,7 +44,7 @@ class GroundTruthVoxels {
 
  private:
   octomap::OcTree grid_;  // only for coordinate -> key
-  double max_range_;
+  double min_range_, max_range_;
   int step_;
   octomap::KeySet static_, dynamic_;
 };
