@@ -178,8 +178,7 @@ int RgbdMappingApp::run() {
   // Simulated input anchored to its ground truth: measure ghost voxels and coverage.
   std::unique_ptr<mapping::GroundTruthVoxels> truth_voxels;
   if (map && dataset.anchor_to_groundtruth && fs::is_directory(fs::path(input_path_) / "masks"))
-    truth_voxels = std::make_unique<mapping::GroundTruthVoxels>(map_options.resolution, map_options.max_range,
-                                                                map_options.pixel_step);
+    truth_voxels = std::make_unique<mapping::GroundTruthVoxels>(map_options);
   std::unique_ptr<datasets::RawlogWriter> filtered;
   if (output.filtered_rawlog)
     filtered = std::make_unique<datasets::RawlogWriter>((fs::path(out_dir_) / "filtered.rawlog").string());
@@ -198,7 +197,7 @@ int RgbdMappingApp::run() {
   const size_t total_hint = source->sizeHint();
   const auto wall_start = std::chrono::steady_clock::now();
   double first_stamp = -1;
-  size_t index = 0, inserted_candidates = 0;
+  size_t index = 0;
   datasets::RgbdFrame frame;
   while (!stop_requested_) {
     bool have = false;
@@ -243,10 +242,10 @@ int RgbdMappingApp::run() {
     trajectory.push_back({frame.stamp, T_world_camera});
 
     double map_ms = 0;
-    if (map && tracking.tracked() && (inserted_candidates++ % output.map_insert_every) == 0) {
+    if (map && tracking.tracked()) {  // the builder skips frames per [Mapping] insert_every_n_frames
       const auto tm = std::chrono::steady_clock::now();
-      map->insertFrame(frame, ctx.dynamic_mask, T_world_camera);
-      map_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tm).count();
+      if (map->insertFrame(frame, ctx.dynamic_mask, T_world_camera))
+        map_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tm).count();
     }
     if (filtered) filtered->write(*obs);
     if (output.overlay_every > 0 && report.frames % output.overlay_every == 0) {

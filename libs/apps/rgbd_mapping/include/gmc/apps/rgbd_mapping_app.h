@@ -57,14 +57,12 @@ struct OutputOptions {
   bool map = true;                 ///< build and write map.bt
   bool filtered_rawlog = false;    ///< write filtered.rawlog
   int overlay_every = 0;           ///< write overlays/<stamp>.png every N frames (0 = never)
-  int map_insert_every = 1;        ///< insert every N-th tracked frame into the map
 
   template <class V>
   void visit(V& v) {
     v("map", map, "build the OctoMap and write map.bt");
     v("filtered_rawlog", filtered_rawlog, "write the filtered observations to filtered.rawlog");
     v("overlay_every", overlay_every, 0, 1000000, "overlay PNG every N frames (0 = none)");
-    v("map_insert_every", map_insert_every, 1, 1000000, "insert every N-th tracked frame");
   }
 };
 
