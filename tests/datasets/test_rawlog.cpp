@@ -6,6 +6,12 @@
 #include <fstream>
 #include <random>
 
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
+
 #include "gmc/datasets/atomic_file.h"
 #include "gmc/datasets/rawlog.h"
 #include "gmc/datasets/source.h"
@@ -34,7 +40,7 @@ void expectSame(const RgbdFrame& a, const RgbdFrame& b) {
   EXPECT_NEAR(a.stamp, b.stamp, 1e-6);  // microseconds
   EXPECT_EQ(cv::norm(a.rgb, b.rgb, cv::NORM_INF), 0);
   EXPECT_EQ(cv::norm(a.depth, b.depth, cv::NORM_INF), 0);
-  EXPECT_NEAR(a.depth_units, b.depth_units, 1e-9);
+  EXPECT_DOUBLE_EQ(a.depth_units, b.depth_units);  // 1/5000 exactly, though MRPT stores a float
   EXPECT_DOUBLE_EQ(a.camera.fx, b.camera.fx);
   EXPECT_DOUBLE_EQ(a.camera.cy, b.camera.cy);
 }
@@ -66,12 +72,42 @@ TEST(Rawlog, WriteThenReadGivesTheSameFrames) {
 }
 
 TEST(Rawlog, UnclosedWriterLeavesNoFile) {
-  const auto dir = gmc::testdata::scratchDir("rawlog_unclosed");
-  {
-    RawlogWriter w(dir + "/x.rawlog");
-    w.write(randomFrame(1.0, 1));
+  for (bool externalize : {false, true}) {
+    const auto dir = gmc::testdata::scratchDir("rawlog_unclosed");
+    {
+      RawlogWriter w(dir + "/x.rawlog", externalize);
+      w.write(randomFrame(1.0, 1));
+      EXPECT_EQ(fs::exists(dir + "/x_Images"), externalize);
+    }
+    EXPECT_TRUE(fs::is_empty(dir)) << "externalize " << externalize;
   }
-  EXPECT_TRUE(fs::is_empty(dir));
+}
+
+TEST(Rawlog, SensoryFrameFormatIsReadAndOtherObservationsSkipped) {
+  const auto dir = gmc::testdata::scratchDir("rawlog_sf");
+  const std::string path = dir + "/sf.rawlog";
+  std::vector<RgbdFrame> frames;
+  {
+    mrpt::io::CFileGZOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    for (int i = 0; i < 2; ++i) {
+      frames.push_back(randomFrame(1000.0 + i, static_cast<unsigned>(10 + i)));
+      mrpt::obs::CActionCollection actions;
+      mrpt::obs::CSensoryFrame sf;
+      auto odo = std::make_shared<mrpt::obs::CObservationOdometry>();
+      odo->timestamp = mrpt::Clock::fromDouble(frames.back().stamp);
+      sf.insert(odo);  // not an RGB-D observation: skipped by the reader
+      sf.insert(toObservation(frames.back()));
+      archive << actions << sf;
+    }
+  }
+  auto src = openRgbdSource(path, {});
+  RgbdFrame f;
+  for (const auto& expected : frames) {
+    ASSERT_TRUE(src->next(f));
+    expectSame(expected, f);
+  }
+  EXPECT_FALSE(src->next(f));
 }
 
 TEST(Rawlog, MrptSampleLoadsThroughTheSameReader) {
@@ -109,9 +145,14 @@ TEST(Source, TumFolderPairsAndReportsBadFrames) {
     src->next(out);
     FAIL() << "8-bit depth accepted";
   } catch (const FrameReadError& e) {
-    EXPECT_NE(std::string(e.what()).find("depth/2.001000.png"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("depth/2.001000.png (depth.txt:2)"), std::string::npos)
+        << e.what();
   }
   EXPECT_FALSE(src->next(out));
+  const auto pairing = pairTumFolder(dir);
+  ASSERT_EQ(pairing.unpaired_rgb.size(), 1u);
+  EXPECT_EQ(pairing.unpaired_rgb[0].path, "rgb/3.000000.png");
+  EXPECT_EQ(pairing.unpaired_rgb[0].line, 4u);  // after the comment line
 }
 
 TEST(Source, MissingInputsAreNamed) {

@@ -5,12 +5,22 @@
 #include <mrpt/serialization/CArchive.h>
 #include <opencv2/imgproc.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 
 namespace gmc::datasets {
 namespace fs = std::filesystem;
+namespace {
+/// MRPT keeps rangeUnits as a float: give back 1/n exactly (TUM's 1/5000, millimetres'
+/// 1/1000) when the float is the nearest one to 1/n, so metres = raw / n exactly.
+double depthUnitsOf(float range_units) {
+  const double n = std::round(1.0 / range_units);
+  if (n >= 1 && static_cast<float>(1.0 / n) == range_units) return 1.0 / n;
+  return range_units;
+}
+}  // namespace
 
 mrpt::obs::CObservation3DRangeScan::Ptr toObservation(const RgbdFrame& frame,
                                                       const std::string& sensor_label) {
@@ -46,7 +56,7 @@ RgbdFrame fromObservation(const mrpt::obs::CObservation3DRangeScan& obs) {
   if (!obs.hasIntensityImage) throw std::runtime_error("observation has no intensity image");
   RgbdFrame f;
   f.stamp = mrpt::Clock::toDouble(obs.timestamp);
-  f.depth_units = obs.rangeUnits;
+  f.depth_units = depthUnitsOf(obs.rangeUnits);
   const auto& ri = obs.rangeImage;
   f.depth.create(static_cast<int>(ri.rows()), static_cast<int>(ri.cols()), CV_16UC1);
   for (int r = 0; r < f.depth.rows; ++r) {
@@ -75,14 +85,19 @@ RawlogWriter::RawlogWriter(const std::string& path, bool externalize_images)
   if (externalize_) {
     const fs::path p(path);
     images_dir_ = (p.parent_path() / (p.stem().string() + "_Images")).string();
-    fs::create_directories(images_dir_);
+    created_images_dir_ = fs::create_directories(images_dir_);
   }
   out_ = std::make_unique<mrpt::io::CFileGZOutputStream>();
   if (!out_->open(file_.tempPath(), 1))
     throw std::runtime_error(path + ": cannot create rawlog");
 }
 
-RawlogWriter::~RawlogWriter() = default;
+RawlogWriter::~RawlogWriter() {
+  if (!out_) return;  // closed
+  out_.reset();
+  std::error_code ec;
+  if (created_images_dir_) fs::remove_all(images_dir_, ec);
+}
 
 void RawlogWriter::write(const RgbdFrame& frame, const std::string& sensor_label) {
   auto obs = toObservation(frame, sensor_label);

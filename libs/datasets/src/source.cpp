@@ -75,14 +75,8 @@ class RawlogSource : public RgbdSource {
 
 class TumFolderSource : public RgbdSource {
  public:
-  TumFolderSource(const std::string& dir, const PinholeCamera& camera) : dir_(dir), camera_(camera) {
-    const auto rgb = readTumList((fs::path(dir) / "rgb.txt").string());
-    const auto depth = readTumList((fs::path(dir) / "depth.txt").string());
-    std::vector<double> rs, ds;
-    for (const auto& e : rgb) rs.push_back(e.stamp);
-    for (const auto& e : depth) ds.push_back(e.stamp);
-    for (const auto& [a, b] : associate(rs, ds, 0.02)) pairs_.push_back({rgb[a], depth[b]});
-    unpaired_ = rgb.size() - pairs_.size();
+  TumFolderSource(const std::string& dir, const PinholeCamera& camera)
+      : dir_(dir), camera_(camera), pairs_(pairTumFolder(dir).pairs) {
     if (pairs_.empty())
       throw InputError(dir + ": no RGB frame has a depth frame within 0.02 s");
   }
@@ -92,14 +86,17 @@ class TumFolderSource : public RgbdSource {
     const auto& [rgb, depth] = pairs_[index_++];
     const std::string rgb_path = (fs::path(dir_) / rgb.path).string();
     const std::string depth_path = (fs::path(dir_) / depth.path).string();
+    // Messages name the image and the list line it came from.
+    const std::string rgb_name = rgb_path + " (rgb.txt:" + std::to_string(rgb.line) + ")";
+    const std::string depth_name = depth_path + " (depth.txt:" + std::to_string(depth.line) + ")";
     frame.rgb = cv::imread(rgb_path, cv::IMREAD_COLOR);
-    if (frame.rgb.empty()) throw FrameReadError(rgb_path + ": missing or unreadable image");
+    if (frame.rgb.empty()) throw FrameReadError(rgb_name + ": missing or unreadable image");
     frame.depth = cv::imread(depth_path, cv::IMREAD_ANYDEPTH);
-    if (frame.depth.empty()) throw FrameReadError(depth_path + ": missing or unreadable depth image");
+    if (frame.depth.empty()) throw FrameReadError(depth_name + ": missing or unreadable depth image");
     if (frame.depth.type() != CV_16UC1)
-      throw FrameReadError(depth_path + ": depth must be a 16-bit single-channel PNG");
+      throw FrameReadError(depth_name + ": depth must be a 16-bit single-channel PNG");
     if (frame.depth.size() != frame.rgb.size())
-      throw FrameReadError(depth_path + ": depth is " + std::to_string(frame.depth.cols) + "x" +
+      throw FrameReadError(depth_name + ": depth is " + std::to_string(frame.depth.cols) + "x" +
                            std::to_string(frame.depth.rows) + ", RGB is " +
                            std::to_string(frame.rgb.cols) + "x" + std::to_string(frame.rgb.rows));
     frame.stamp = rgb.stamp;
@@ -116,7 +113,7 @@ class TumFolderSource : public RgbdSource {
   std::string dir_;
   PinholeCamera camera_;
   std::vector<std::pair<TumListEntry, TumListEntry>> pairs_;
-  size_t index_ = 0, unpaired_ = 0;
+  size_t index_ = 0;
 };
 
 }  // namespace

@@ -66,6 +66,7 @@ std::vector<TumListEntry> readTumList(const std::string& path) {
     if (f.size() != 2 || !parseDouble(f[0], e.stamp))
       throw InputError(path + ":" + std::to_string(line) + ": expected 'timestamp filename'");
     e.path = f[1];
+    e.line = line;
     if (!out.empty() && e.stamp < out.back().stamp)
       throw InputError(path + ":" + std::to_string(line) + ": timestamps go backwards");
     out.push_back(std::move(e));
@@ -153,6 +154,23 @@ std::vector<std::pair<size_t, size_t>> associate(const std::vector<double>& firs
     out.emplace_back(c.a, c.b);
   }
   std::sort(out.begin(), out.end(), [&](const auto& x, const auto& y) { return first[x.first] < first[y.first]; });
+  return out;
+}
+
+TumFolderPairs pairTumFolder(const std::string& dir, double max_dt) {
+  const auto rgb = readTumList(dir + "/rgb.txt");
+  const auto depth = readTumList(dir + "/depth.txt");
+  std::vector<double> rs, ds;
+  for (const auto& e : rgb) rs.push_back(e.stamp);
+  for (const auto& e : depth) ds.push_back(e.stamp);
+  TumFolderPairs out;
+  std::vector<char> paired(rgb.size(), 0);
+  for (const auto& [a, b] : associate(rs, ds, max_dt)) {
+    out.pairs.emplace_back(rgb[a], depth[b]);
+    paired[a] = 1;
+  }
+  for (size_t a = 0; a < rgb.size(); ++a)
+    if (!paired[a]) out.unpaired_rgb.push_back(rgb[a]);
   return out;
 }
 

@@ -1,5 +1,7 @@
 #include "gmc/apps/tum2rawlog_app.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -44,6 +46,13 @@ int Tum2RawlogApp::run() {
   } catch (const std::invalid_argument& e) {
     throw AppError(std::string("--camera: ") + e.what(), 2);
   }
+  const auto start = std::chrono::steady_clock::now();
+  // Unpaired RGB frames are skipped, each named (the source pairs the same way).
+  const std::string rgb_list = (fs::path(input_) / "rgb.txt").string();
+  const auto unpaired = datasets::pairTumFolder(input_).unpaired_rgb;
+  for (const auto& e : unpaired)
+    std::fprintf(stderr, "gmc-tum2rawlog: warning: %s:%zu: %s has no depth frame within 0.02 s (skipped)\n",
+                 rgb_list.c_str(), e.line, e.path.c_str());
   auto source = datasets::openRgbdSource(input_, camera);
   datasets::RawlogWriter writer(output_, externalize_);
   std::vector<double> stamps;
@@ -54,6 +63,7 @@ int Tum2RawlogApp::run() {
   }
   const fs::path gt_path = fs::path(input_) / "groundtruth.txt";
   std::string gt_out;
+  size_t gt_poses = 0;
   if (fs::exists(gt_path)) {
     const auto gt = datasets::readTumTrajectory(gt_path.string());
     std::vector<datasets::StampedPose> at_frames;
@@ -62,12 +72,17 @@ int Tum2RawlogApp::run() {
     const fs::path out(output_);
     gt_out = (out.parent_path() / (out.stem().string() + "_groundtruth.txt")).string();
     datasets::writeTumTrajectory(gt_out, at_frames);
+    gt_poses = at_frames.size();
   }
   writer.close();
-  std::printf("%s: %zu observations (%zu RGB frames without depth within 0.02 s skipped)\n",
-              output_.c_str(), writer.count(),
-              datasets::readTumList((fs::path(input_) / "rgb.txt").string()).size() - writer.count());
-  if (!gt_out.empty()) std::printf("%s: ground truth at the frame stamps\n", gt_out.c_str());
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("%s: %zu observations, %zu RGB frames without depth skipped (%.2f s, %.1f frames/s)\n",
+              output_.c_str(), writer.count(), unpaired.size(), seconds,
+              writer.count() / std::max(seconds, 1e-9));
+  if (!gt_out.empty())
+    std::printf("%s: ground truth at %zu of %zu frame stamps\n", gt_out.c_str(), gt_poses,
+                stamps.size());
   return 0;
 }
 

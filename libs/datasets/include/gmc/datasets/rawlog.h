@@ -22,8 +22,9 @@ mrpt::obs::CObservation3DRangeScan::Ptr toObservation(const RgbdFrame& frame,
 /// when the observation has no range or no intensity image.
 RgbdFrame fromObservation(const mrpt::obs::CObservation3DRangeScan& obs);
 
-/// Writes a rawlog to a temporary file; close() renames it into place. With
-/// externalize_images, images go to "<name>_Images/" next to the rawlog, as MRPT's
+/// Writes a rawlog to a temporary file; close() renames it into place, and destruction
+/// without close() removes it (and the images folder when this writer created it). With
+/// externalize_images, colour images go to "<name>_Images/" next to the rawlog, as MRPT's
 /// rawlog-grabber does for long sequences.
 class RawlogWriter {
  public:
@@ -36,7 +37,7 @@ class RawlogWriter {
 
  private:
   std::string path_, images_dir_;
-  bool externalize_;
+  bool externalize_, created_images_dir_ = false;
   AtomicFile file_;
   std::unique_ptr<mrpt::io::CFileGZOutputStream> out_;
   size_t count_ = 0;

@@ -20,12 +20,21 @@ class InputError : public std::runtime_error {
 struct TumListEntry {
   double stamp = 0;
   std::string path;  ///< as written in the list (relative to the list's folder)
+  size_t line = 0;   ///< line in the list file, for messages (0: not read from a file)
 };
 
 /// Reads rgb.txt / depth.txt. Comment lines start with '#'.
 std::vector<TumListEntry> readTumList(const std::string& path);
 void writeTumList(const std::string& path, const std::vector<TumListEntry>& entries,
                   const std::string& header_comment);
+
+/// The RGB frames of a TUM-layout folder (rgb.txt, depth.txt) paired with depth frames as
+/// associate.py does (see associate()), in RGB stamp order.
+struct TumFolderPairs {
+  std::vector<std::pair<TumListEntry, TumListEntry>> pairs;  ///< (rgb, depth)
+  std::vector<TumListEntry> unpaired_rgb;                    ///< no depth within max_dt
+};
+TumFolderPairs pairTumFolder(const std::string& dir, double max_dt = 0.02);
 
 struct StampedPose {
   double stamp = 0;
