@@ -1,20 +1,17 @@
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
-#include <limits>
-#include <sstream>
+#include <opencv2/imgproc.hpp>
 
-#include "gmc/apps/sim_app.h"
+#include <limits>
+#include <map>
+#include <tuple>
+
 #include "gmc/sim/simulator.h"
-#include "run_app.h"
-#include "test_data.h"
 
 namespace {
 
 using gmc::sim::SimOptions;
 using gmc::sim::Simulator;
-namespace fs = std::filesystem;
 
 /// Quarter-resolution camera keeps the tests fast; geometry is the same.
 SimOptions small(SimOptions o) {
@@ -139,48 +136,156 @@ TEST(Simulator, SensorEffectsCanBeSwitchedOff) {
   EXPECT_GT(dropped, 0);  // edges and grazing angles lose depth
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-int runSim(std::vector<std::string> args) {
-  return gmc::testdata::runApp<gmc::apps::SimApp>("gmc-sim", std::move(args));
-}
-
-TEST(SimApp, SameSeedGivesByteIdenticalOutput) {
-  const auto root = gmc::testdata::scratchDir("sim_determinism");
-  std::ofstream(root + "/s.ini") << "[Simulator]\nframes = 3\nthreads = 2\n[Camera]\nwidth = 160\nheight = 120\n"
-                                    "fx = 133.85\nfy = 134.8\ncx = 79.9\ncy = 61.8\n";
-  ASSERT_EQ(runSim({root + "/s.ini", "--out", root + "/a", "--seed", "7"}), 0);
-  std::ofstream(root + "/t.ini") << "[Simulator]\nframes = 3\nthreads = 1\n[Camera]\nwidth = 160\nheight = 120\n"
-                                    "fx = 133.85\nfy = 134.8\ncx = 79.9\ncy = 61.8\n";
-  ASSERT_EQ(runSim({root + "/t.ini", "--out", root + "/b", "--seed", "7"}), 0);
-  size_t files = 0;
-  for (const auto& e : fs::recursive_directory_iterator(root + "/a")) {
-    if (!e.is_regular_file()) continue;
-    const auto rel = fs::relative(e.path(), root + "/a");
-    EXPECT_EQ(slurp(e.path()), slurp(fs::path(root + "/b") / rel)) << rel;
-    ++files;
+/// Static surface samples on a 3 cm voxel hash, for nearest-sample queries.
+class SampleIndex {
+ public:
+  explicit SampleIndex(const std::vector<Eigen::Vector3d>& points) : points_(points) {
+    for (size_t k = 0; k < points.size(); ++k) cells_[key(points[k])].push_back(k);
   }
-  EXPECT_EQ(files, 3u * 3u + 5u);  // rgb, depth, masks per frame; lists, gt, rawlog, scene
-  ASSERT_EQ(runSim({root + "/s.ini", "--out", root + "/c", "--seed", "8"}), 0);
-  EXPECT_NE(slurp(root + "/a/rgb.txt"), "");
-  EXPECT_NE(slurp(fs::path(root + "/a/rgb") / fs::directory_iterator(root + "/a/rgb")->path().filename()),
-            slurp(fs::path(root + "/c/rgb") / fs::directory_iterator(root + "/c/rgb")->path().filename()));
+  double nearest(const Eigen::Vector3d& x) const {
+    double best = std::numeric_limits<double>::infinity();
+    const auto [i, j, k] = key(x);
+    for (int di = -1; di <= 1; ++di)
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int dk = -1; dk <= 1; ++dk) {
+          const auto it = cells_.find({i + di, j + dj, k + dk});
+          if (it == cells_.end()) continue;
+          for (size_t idx : it->second) best = std::min(best, (points_[idx] - x).norm());
+        }
+    return best;
+  }
+
+ private:
+  using Key = std::tuple<int, int, int>;
+  static Key key(const Eigen::Vector3d& x) {
+    auto c = [](double v) { return static_cast<int>(std::floor(v / 0.03)); };
+    return {c(x.x()), c(x.y()), c(x.z())};
+  }
+  std::vector<Eigen::Vector3d> points_;
+  std::map<Key, std::vector<size_t>> cells_;
+};
+
+TEST(Simulator, StaticSurfaceSamplesMatchTheRenderedScene) {
+  SimOptions o = small(SimOptions::exact());
+  o.people.walkers = 0;
+  o.people.sitting = true;  // its chair is static scene too
+  o.trajectory.style = "halfsphere";
+  const Simulator sim(o);
+  const double spacing = 0.02;
+  const auto samples = sim.staticSurfaceSamples(spacing);
+  const SampleIndex index(samples);
+  for (int frame : {0, 60}) {
+    const auto f = sim.renderFrame(frame);
+    const auto& cam = f.frame.camera;
+    // Every static pixel lies on a sampled surface: within half a grid diagonal of a sample.
+    double worst_gap = 0;
+    int pixels = 0;
+    for (int v = 0; v < cam.height; v += 2)
+      for (int u = 0; u < cam.width; u += 2) {
+        const double z = f.true_depth.at<double>(v, u);
+        if (z <= 0 || f.mask.at<std::uint8_t>(v, u)) continue;
+        const Eigen::Vector3d x = f.T_world_camera * cam.unproject(u, v, z);
+        worst_gap = std::max(worst_gap, index.nearest(x));
+        ++pixels;
+      }
+    // Every sample in view is on the surface the camera sees there, or hidden behind it.
+    const gmc::Isometry T_c_w = f.T_world_camera.inverse();
+    int visible = 0, floating = 0;
+    for (const auto& p : samples) {
+      const Eigen::Vector3d xc = T_c_w * p;
+      if (xc.z() < 0.1) continue;
+      const Eigen::Vector2d uv = cam.project(xc);
+      bool smooth = false;
+      const double z = interpolateDepth(f.true_depth, uv.x(), uv.y(), smooth);
+      if (!smooth) continue;
+      if (std::abs(z - xc.z()) < 1e-6) ++visible;
+      else if (z > xc.z()) ++floating;
+    }
+    std::printf("  frame %d: %d static pixels, farthest from a sample %.4f m; %d samples visible, %d in "
+                "front of the rendered surface\n", frame, pixels, worst_gap, visible, floating);
+    EXPECT_GT(pixels, 3000);
+    EXPECT_LE(worst_gap, spacing * std::sqrt(0.5) + 1e-9);
+    EXPECT_GT(visible, 10000);
+    EXPECT_EQ(floating, 0);
+  }
 }
 
-TEST(SimApp, BadConfigurationIsNamed) {
-  const auto root = gmc::testdata::scratchDir("sim_bad");
-  std::ofstream(root + "/a.ini") << "[People]\nwalkerz = 2\n";
-  EXPECT_EQ(runSim({root + "/a.ini", "--out", root + "/o"}), 1);
-  std::ofstream(root + "/b.ini") << "[Trajectory]\nstyle = loop\n";
-  EXPECT_EQ(runSim({root + "/b.ini", "--out", root + "/o"}), 1);
-  EXPECT_EQ(runSim({root + "/a.ini"}), 2);
-  EXPECT_EQ(runSim({root + "/a.ini", "--out", root + "/o", "--frames", "x"}), 2);
-  EXPECT_FALSE(fs::exists(root + "/o"));
+TEST(Simulator, TexturesGiveCornersInEveryPartOfTheImage) {
+  for (const char* style : {"static", "halfsphere"}) {
+    SimOptions o = SimOptions::exact();
+    o.people.walkers = 0;
+    o.trajectory.style = style;
+    const auto f = Simulator(o).renderFrame(30);
+    cv::Mat gray;
+    cv::cvtColor(f.frame.rgb, gray, cv::COLOR_BGR2GRAY);
+    std::vector<cv::Point2f> corners;
+    cv::goodFeaturesToTrack(gray, corners, 3000, 0.01, 5);
+    // 8 x 6 cells of 80 x 80 px: a detector must find something to match in each.
+    std::vector<int> counts(48, 0);
+    for (const auto& c : corners) ++counts[static_cast<size_t>(static_cast<int>(c.y) / 80 * 8 + static_cast<int>(c.x) / 80)];
+    const int fewest = *std::min_element(counts.begin(), counts.end());
+    std::printf("  %-10s %zu GFTT corners, fewest in an 80x80 cell: %d\n", style, corners.size(), fewest);
+    EXPECT_GE(fewest, 10) << style;
+  }
 }
 
+TEST(Simulator, CameraTrajectoriesFollowTheirStyle) {
+  SimOptions o = SimOptions::exact();
+  auto poses = [&](const char* style) {
+    o.trajectory.style = style;
+    const Simulator sim(o);
+    std::vector<gmc::Isometry> out;
+    for (int i = 0; i < 300; i += 5) out.push_back(sim.cameraPose(i));
+    return out;
+  };
+  auto spread = [](const std::vector<gmc::Isometry>& ps, auto value) {
+    double worst = 0;
+    for (const auto& p : ps) worst = std::max(worst, (value(p) - value(ps.front())).norm());
+    return worst;
+  };
+  auto position = [](const gmc::Isometry& p) -> Eigen::Vector3d { return p.translation(); };
+  auto rotation = [](const gmc::Isometry& p) -> Eigen::Matrix3d { return p.linear(); };
+  auto lookAt = [&](const gmc::Isometry& p) -> Eigen::Vector3d {
+    return p.translation() + o.trajectory.radius * p.linear().col(2);
+  };
+
+  const auto fixed = poses("static");
+  EXPECT_EQ(spread(fixed, position), 0.0);
+  EXPECT_EQ(spread(fixed, rotation), 0.0);
+  // Level camera at the configured height, looking horizontally: optical y is world -z.
+  EXPECT_NEAR(fixed[0].translation().z(), o.trajectory.height, 1e-12);
+  EXPECT_NEAR(fixed[0].linear().col(1).z(), -1.0, 1e-12);
+
+  const auto xyz = poses("xyz");
+  EXPECT_EQ(spread(xyz, rotation), 0.0);
+  EXPECT_GT(spread(xyz, position), o.trajectory.amplitude);
+  EXPECT_LT(spread(xyz, position), 2 * o.trajectory.amplitude * std::sqrt(3.0));
+
+  const auto rpy = poses("rpy");
+  EXPECT_EQ(spread(rpy, position), 0.0);
+  double widest = 0;
+  for (const auto& p : rpy) widest = std::max(widest, Eigen::AngleAxisd(p.linear() * rpy[0].linear().transpose()).angle());
+  EXPECT_GT(widest * 180 / M_PI, o.trajectory.rotation);
+
+  const auto half = poses("halfsphere");  // on a sphere, always looking at its centre
+  EXPECT_GT(spread(half, position), 1.0);
+  EXPECT_LT(spread(half, lookAt), 1e-9);
+
+  const auto hand = poses("handheld");
+  EXPECT_GT(spread(hand, position), 0.05);
+  EXPECT_GT(spread(hand, rotation), 0.05);
+  for (const auto& set : {fixed, xyz, rpy, half, hand})
+    for (const auto& p : set) EXPECT_LT((p.linear() * p.linear().transpose() - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+}
+
+TEST(Simulator, AWalkerEntersAndLeavesTheView) {
+  SimOptions o = small(SimOptions::exact());
+  o.people.walkers = 1;
+  o.trajectory.style = "static";
+  const Simulator sim(o);
+  int with = 0, without = 0;
+  for (int i = 0; i < 600; i += 10) (cv::countNonZero(sim.renderFrame(i).mask) > 0 ? with : without)++;
+  EXPECT_GT(with, 0);
+  EXPECT_GT(without, 0);
+}
 }  // namespace

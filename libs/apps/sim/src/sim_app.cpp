@@ -10,6 +10,7 @@
 #include "gmc/datasets/atomic_file.h"
 #include "gmc/datasets/rawlog.h"
 #include "gmc/datasets/tum.h"
+#include "gmc/gmc/options.h"
 #include "gmc/sim/sim_config.h"
 
 namespace gmc::apps {
@@ -54,6 +55,8 @@ int SimApp::run() {
   sim::SimOptions options = sim::loadSimOptions(ini, config_);
   if (seed_ >= 0) options.simulator.seed = seed_;
   if (frames_ > 0) options.simulator.frames = frames_;
+  const std::string override_error = validateOptions(options.simulator, "Simulator");
+  if (!override_error.empty()) throw AppError("--seed/--frames: " + override_error);
   // Refuse to overwrite anything but an earlier gmc-sim output.
   if (fs::exists(out_) && !(fs::exists(fs::path(out_) / "sequence.rawlog") || fs::is_empty(out_)))
     throw AppError(out_ + ": exists and is not a gmc-sim output; choose another --out");
