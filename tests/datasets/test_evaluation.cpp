@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <opencv2/core.hpp>
+
 #include <random>
 
 #include "gmc/datasets/evaluation.h"
@@ -80,11 +82,19 @@ TEST(Json, HasTheDocumentedKeys) {
     EXPECT_NE(j.find(key), std::string::npos) << key;
 }
 
-TEST(Plot, DrawsSomething) {
+TEST(Plot, DrawsBothTrajectoriesAndTheErrorPanel) {
   const auto gt = circle(100, 4);
-  const cv::Mat img = plotTrajectory(computeAte(gt, gt), "t");
-  ASSERT_FALSE(img.empty());
-  EXPECT_LT(cv::mean(img)[0], 254.0);  // not blank
+  auto est = gt;
+  for (size_t i = 0; i < est.size(); ++i) est[i].pose.translation().z() += (i % 2 ? 0.05 : -0.05);
+  const cv::Mat img = plotTrajectory(computeAte(gt, est), "t");
+  ASSERT_EQ(img.type(), CV_8UC3);
+  cv::Mat red, dark;
+  cv::inRange(img, cv::Scalar(0, 0, 150), cv::Scalar(120, 120, 255), red);    // estimate
+  cv::inRange(img, cv::Scalar(0, 0, 0), cv::Scalar(60, 60, 60), dark);        // ground truth, text
+  const cv::Rect top(0, 60, img.cols, 560), bottom(0, 650, img.cols, img.rows - 650);
+  EXPECT_GT(cv::countNonZero(red(top)), 100);
+  EXPECT_GT(cv::countNonZero(dark(top)), 100);
+  EXPECT_GT(cv::countNonZero(red(bottom)), 100);  // error over time
 }
 
 }  // namespace

@@ -45,6 +45,17 @@ void expectSame(const RgbdFrame& a, const RgbdFrame& b) {
   EXPECT_DOUBLE_EQ(a.camera.cy, b.camera.cy);
 }
 
+/// The rawlog at `path` reads back as exactly `frames`.
+void expectSequence(const std::string& path, const std::vector<RgbdFrame>& frames) {
+  auto src = openRgbdSource(path, {});
+  RgbdFrame f;
+  for (const auto& expected : frames) {
+    ASSERT_TRUE(src->next(f));
+    expectSame(expected, f);
+  }
+  EXPECT_FALSE(src->next(f));
+}
+
 TEST(Rawlog, WriteThenReadGivesTheSameFrames) {
   for (bool externalize : {false, true}) {
     const auto dir = gmc::testdata::scratchDir(externalize ? "rawlog_ext" : "rawlog");
@@ -61,13 +72,7 @@ TEST(Rawlog, WriteThenReadGivesTheSameFrames) {
     }
     ASSERT_TRUE(fs::exists(path));
     EXPECT_EQ(fs::exists(dir + "/seq_Images"), externalize);
-    auto src = openRgbdSource(path, {});
-    RgbdFrame f;
-    for (const auto& expected : frames) {
-      ASSERT_TRUE(src->next(f));
-      expectSame(expected, f);
-    }
-    EXPECT_FALSE(src->next(f));
+    expectSequence(path, frames);
   }
 }
 
@@ -101,13 +106,7 @@ TEST(Rawlog, SensoryFrameFormatIsReadAndOtherObservationsSkipped) {
       archive << actions << sf;
     }
   }
-  auto src = openRgbdSource(path, {});
-  RgbdFrame f;
-  for (const auto& expected : frames) {
-    ASSERT_TRUE(src->next(f));
-    expectSame(expected, f);
-  }
-  EXPECT_FALSE(src->next(f));
+  expectSequence(path, frames);
 }
 
 TEST(Rawlog, MrptSampleLoadsThroughTheSameReader) {

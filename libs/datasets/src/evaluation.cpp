@@ -104,11 +104,23 @@ std::string evaluationJson(const AteResult& ate, const RpeResult& rpe) {
   return os.str();
 }
 
+namespace {
+void label(cv::Mat& img, const std::string& text, cv::Point at, double size = 0.45) {
+  cv::putText(img, text, at, cv::FONT_HERSHEY_SIMPLEX, size, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+}
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+}  // namespace
+
 cv::Mat plotTrajectory(const AteResult& ate, const std::string& title) {
-  const int W = 900, top_h = 620, bottom_h = 260, margin = 60;
+  const int W = 900, top_h = 640, bottom_h = 260, margin = 70;
   cv::Mat img(top_h + bottom_h, W, CV_8UC3, cv::Scalar(255, 255, 255));
   if (ate.gt_positions.empty()) return img;
-  // Plane with the largest extent: the two axes of largest ground-truth spread.
+  const cv::Scalar gt_colour(40, 40, 40), est_colour(30, 30, 220);
+  // Plane with the largest extent: the two axes of largest spread.
   Eigen::Vector3d lo = ate.gt_positions[0], hi = lo;
   for (const auto& p : ate.gt_positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   for (const auto& p : ate.aligned_positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
@@ -116,39 +128,52 @@ cv::Mat plotTrajectory(const AteResult& ate, const std::string& title) {
   int a0 = 0, a1 = 1;
   if (ext[2] > std::min(ext[0], ext[1])) (ext[0] < ext[1] ? a0 : a1) = 2;
   if (a0 > a1) std::swap(a0, a1);
-  const double span = std::max({ext[a0], ext[a1], 1e-3});
-  const double scale = std::min((W - 2 * margin) / span, (top_h - 2 * margin) / span);
+  // Same scale on both axes, drawing centred in the panel.
+  const cv::Rect panel(margin, 50, W - 2 * margin, top_h - 50 - margin);
+  const double scale = std::min(panel.width / std::max(ext[a0], 1e-3), panel.height / std::max(ext[a1], 1e-3));
+  const double off0 = panel.x + (panel.width - ext[a0] * scale) / 2;
+  const double off1 = panel.y + panel.height - (panel.height - ext[a1] * scale) / 2;
   auto toPx = [&](const Eigen::Vector3d& p) {
-    return cv::Point(static_cast<int>(margin + (p[a0] - lo[a0]) * scale),
-                     static_cast<int>(top_h - margin - (p[a1] - lo[a1]) * scale));
+    return cv::Point(static_cast<int>(off0 + (p[a0] - lo[a0]) * scale),
+                     static_cast<int>(off1 - (p[a1] - lo[a1]) * scale));
   };
+  cv::rectangle(img, panel, cv::Scalar(200, 200, 200));
   for (size_t k = 1; k < ate.gt_positions.size(); ++k) {
-    cv::line(img, toPx(ate.gt_positions[k - 1]), toPx(ate.gt_positions[k]), cv::Scalar(40, 40, 40), 2, cv::LINE_AA);
-    cv::line(img, toPx(ate.aligned_positions[k - 1]), toPx(ate.aligned_positions[k]), cv::Scalar(30, 30, 220), 1, cv::LINE_AA);
+    cv::line(img, toPx(ate.gt_positions[k - 1]), toPx(ate.gt_positions[k]), gt_colour, 2, cv::LINE_AA);
+    cv::line(img, toPx(ate.aligned_positions[k - 1]), toPx(ate.aligned_positions[k]), est_colour, 1, cv::LINE_AA);
   }
-  const char* names = "xyz";
+  const char names[] = "xyz";
   char text[256];
-  std::snprintf(text, sizeof text, "%s   ATE RMSE %.4f m over %zu pairs", title.c_str(),
-                ate.error.rmse, ate.pairs);
-  cv::putText(img, text, {margin, 30}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  std::snprintf(text, sizeof text, "top view: %c (right) vs %c (up), 1 m = %.0f px;  black: ground truth, red: aligned estimate",
-                names[a0], names[a1], scale);
-  cv::putText(img, text, {margin, top_h - 15}, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(60, 60, 60), 1, cv::LINE_AA);
+  std::snprintf(text, sizeof text, "%s   ATE RMSE %.4f m over %zu pairs", title.c_str(), ate.error.rmse, ate.pairs);
+  label(img, text, {margin, 30}, 0.6);
+  // Axis extents in metres at the ends of the drawn data.
+  const cv::Point p_lo = toPx(lo), p_hi = toPx(hi);
+  label(img, fmt("%.2f", lo[a0]), {p_lo.x - 15, panel.br().y + 18});
+  label(img, fmt("%.2f m", hi[a0]), {p_hi.x - 25, panel.br().y + 18});
+  label(img, fmt("%.2f", lo[a1]), {5, p_lo.y});
+  label(img, fmt("%.2f", hi[a1]), {5, p_hi.y + 10});
+  std::snprintf(text, sizeof text,
+                "top view, plane of largest extent: %c (right) vs %c (up);  black: ground truth, red: aligned estimate",
+                names[a0], names[a1]);
+  label(img, text, {margin, top_h - 20}, 0.42);
   // Error over time.
   const double t0 = ate.stamps.front(), t1 = std::max(ate.stamps.back(), t0 + 1e-6);
   const double emax = std::max(ate.error.max, 1e-4);
-  const int y0 = top_h + bottom_h - 40, h = bottom_h - 80;
-  cv::line(img, {margin, y0}, {W - margin, y0}, cv::Scalar(0, 0, 0));
-  cv::line(img, {margin, y0}, {margin, y0 - h}, cv::Scalar(0, 0, 0));
-  for (size_t k = 1; k < ate.errors.size(); ++k) {
-    auto px = [&](size_t i) {
-      return cv::Point(static_cast<int>(margin + (ate.stamps[i] - t0) / (t1 - t0) * (W - 2 * margin)),
-                       static_cast<int>(y0 - ate.errors[i] / emax * h));
-    };
-    cv::line(img, px(k - 1), px(k), cv::Scalar(30, 30, 220), 1, cv::LINE_AA);
-  }
-  std::snprintf(text, sizeof text, "position error over time (max %.4f m, %.1f s)", emax, t1 - t0);
-  cv::putText(img, text, {margin, top_h + 25}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  const int x0 = margin, x1 = W - margin, y0 = top_h + bottom_h - 45, h = bottom_h - 90;
+  cv::line(img, {x0, y0}, {x1, y0}, cv::Scalar(0, 0, 0));
+  cv::line(img, {x0, y0}, {x0, y0 - h}, cv::Scalar(0, 0, 0));
+  auto errPx = [&](size_t i) {
+    return cv::Point(static_cast<int>(x0 + (ate.stamps[i] - t0) / (t1 - t0) * (x1 - x0)),
+                     static_cast<int>(y0 - ate.errors[i] / emax * h));
+  };
+  for (size_t k = 1; k < ate.errors.size(); ++k) cv::line(img, errPx(k - 1), errPx(k), est_colour, 1, cv::LINE_AA);
+  const int rmse_y = static_cast<int>(y0 - ate.error.rmse / emax * h);
+  cv::line(img, {x0, rmse_y}, {x1, rmse_y}, cv::Scalar(160, 160, 160), 1, cv::LINE_AA);
+  label(img, "position error (m) over time; grey: RMSE", {margin, top_h + 25}, 0.5);
+  label(img, fmt("%.3f", emax), {5, y0 - h + 5});
+  label(img, "0", {x0 - 15, y0 + 5});
+  label(img, "0 s", {x0 - 5, y0 + 20});
+  label(img, fmt("%.1f s", t1 - t0), {x1 - 30, y0 + 20});
   return img;
 }
 
