@@ -59,7 +59,7 @@ TEST(SimApp, SameSeedGivesByteIdenticalOutput) {
 TEST(SimApp, WritesTumLayoutMasksRawlogAndScene) {
   const auto root = gmc::testdata::scratchDir("sim_layout");
   const std::string ini = writeSmallIni(root + "/s.ini", 40, 2);
-  ASSERT_EQ(runSim({ini, "--out", root + "/o", "--frames", "4", "--seed", "3"}), 0);
+  ASSERT_EQ(runSim({ini, "--out", root + "/o", "--frames", "4", "--seed", "3", "--preview", "2"}), 0);
   const std::string dir = root + "/o";
 
   gmc::sim::SimOptions options;
@@ -87,6 +87,12 @@ TEST(SimApp, WritesTumLayoutMasksRawlogAndScene) {
     ASSERT_EQ(m.type(), CV_8UC1) << mask_path;
     EXPECT_EQ(cv::norm(m, truth.mask, cv::NORM_INF), 0.0);
   }
+
+  // preview.png: frame 2's RGB | depth | mask.
+  const cv::Mat preview = cv::imread(dir + "/preview.png", cv::IMREAD_COLOR);
+  ASSERT_EQ(preview.cols, 3 * 160);
+  ASSERT_EQ(preview.rows, 120);
+  EXPECT_EQ(cv::norm(preview.colRange(0, 160), sim.renderFrame(2).frame.rgb, cv::NORM_INF), 0.0);
 
   // The rawlog holds the same frames.
   const auto source = gmc::datasets::openRgbdSource(dir + "/sequence.rawlog", {});
@@ -130,6 +136,7 @@ TEST(SimApp, BadConfigurationIsNamed) {
   EXPECT_EQ(runSim({root + "/a.ini"}), 2);
   EXPECT_EQ(runSim({root + "/a.ini", "--out", root + "/o", "--frames", "x"}), 2);
   EXPECT_EQ(runSim({root + "/a.ini", "--out", root + "/o", "--frames", "0"}), 2);
+  EXPECT_EQ(runSim({root + "/ok.ini", "--out", root + "/o", "--preview", "1"}), 2);
   EXPECT_EQ(runSim({root + "/missing.ini", "--out", root + "/o"}), 1);
   EXPECT_FALSE(fs::exists(root + "/o"));
   // A folder that is not an earlier gmc-sim output is never replaced.

@@ -88,6 +88,22 @@ TEST(Simulator, StaticPixelsReprojectIntoOtherFramesExactly) {
   }
 }
 
+TEST(Simulator, EveryRayHitsTheClosedRoom) {
+  for (const char* style : {"static", "xyz", "rpy", "halfsphere", "handheld"}) {
+    SimOptions o = SimOptions::exact();
+    o.trajectory.style = style;
+    const Simulator sim(o);
+    for (int i : {0, 30, 95}) {
+      const auto f = sim.renderFrame(i);
+      cv::Mat missing = f.true_depth <= 0;
+      std::vector<cv::Point> where;
+      cv::findNonZero(missing, where);
+      EXPECT_TRUE(where.empty()) << style << " frame " << i << ": " << where.size() << " pixels without a surface, first at "
+                                 << where.front();
+    }
+  }
+}
+
 TEST(Simulator, MaskIsExactlyWherePeopleAreNearest) {
   SimOptions with = small(SimOptions::exact());
   with.people.walkers = 3;

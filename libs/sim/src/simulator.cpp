@@ -4,35 +4,27 @@
 #include "gmc/sim/simulator.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <thread>
 
+#include <opencv2/imgproc.hpp>
+
+#include "random.h"
+#include "texture.h"
+
 namespace gmc::sim {
 namespace {
 
+using detail::gaussian;
+using detail::hash;
+using detail::Material;
+using detail::mix;
+using detail::Pattern;
+using detail::Rng;
+
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-/// Deterministic hashing: output depends only on the inputs, never on threads or order.
-inline std::uint64_t mix(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-inline std::uint64_t hash(std::uint64_t a, std::uint64_t b, std::uint64_t c = 0, std::uint64_t d = 0) {
-  return mix(a ^ mix(b ^ mix(c ^ mix(d))));
-}
-inline double unit(std::uint64_t h) { return (h >> 11) * (1.0 / 9007199254740992.0); }
-inline double gaussian(std::uint64_t h) {  // Box-Muller from one hash
-  const double u1 = std::max(unit(h), 1e-12), u2 = unit(mix(h));
-  return std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);
-}
-
-struct Rng {  // small deterministic generator for scene construction
-  std::uint64_t s;
-  double uniform(double a, double b) { return a + (b - a) * unit(s = mix(s)); }
-};
 
 enum class Shape : std::uint8_t { Box, Sphere, Capsule };
 
@@ -42,8 +34,7 @@ struct Primitive {
   bool dynamic = false;      ///< part of a person
   Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();  ///< box min/max; sphere centre (a); capsule ends
   double radius = 0;
-  std::uint64_t material = 0;
-  double tile = 0.2;         ///< texture tile size (m)
+  Material material;         ///< boxes: reseeded per face; the room: per-face materials of the scene
 };
 
 /// Ray r(t) = o + t d (d need not be unit). Returns the nearest t > eps or +inf.
@@ -95,8 +86,16 @@ double intersect(const Primitive& p, const Eigen::Vector3d& o, const Eigen::Vect
   return kInf;
 }
 
-/// Surface normal and 2-D texture coordinates (metres on the surface) at a hit point.
-void surface(const Primitive& p, const Eigen::Vector3d& x, Eigen::Vector3d& n, double& s, double& t) {
+/// Where a ray hit: normal, texture coordinates (m) local to the face, the face's extent.
+struct SurfacePoint {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  double s = 0, t = 0;          ///< t grows upwards on vertical faces
+  double width = 0, height = 0; ///< extent of a box face along s and t
+  int face = 0;                 ///< boxes: 2 * axis + (1 at the max side)
+};
+
+SurfacePoint surface(const Primitive& p, const Eigen::Vector3d& x) {
+  SurfacePoint sp;
   switch (p.shape) {
     case Shape::Box: {
       int axis = 0;
@@ -107,112 +106,97 @@ void surface(const Primitive& p, const Eigen::Vector3d& x, Eigen::Vector3d& n, d
         if (dmin < best) best = dmin, axis = k, at_max = false;
         if (dmax < best) best = dmax, axis = k, at_max = true;
       }
-      n = Eigen::Vector3d::Zero();
-      n[axis] = (at_max ? 1 : -1) * (p.inside ? -1 : 1);
-      s = x[(axis + 1) % 3] + 7.0 * axis;
-      t = x[(axis + 2) % 3] + (at_max ? 13.0 : 0.0);
-      return;
+      sp.normal = Eigen::Vector3d::Zero();
+      sp.normal[axis] = (at_max ? 1 : -1) * (p.inside ? -1 : 1);
+      sp.face = 2 * axis + (at_max ? 1 : 0);
+      // Vertical faces: s runs horizontally, t up; horizontal faces: s = x, t = y.
+      const int is = axis == 0 ? 1 : 0, it = axis == 2 ? 1 : 2;
+      sp.s = x[is] - p.a[is], sp.t = x[it] - p.a[it];
+      sp.width = p.b[is] - p.a[is], sp.height = p.b[it] - p.a[it];
+      return sp;
     }
     case Shape::Sphere:
-      n = (x - p.a).normalized();
-      s = std::atan2(n.y(), n.x()) * p.radius;
-      t = x.z();
-      return;
+      sp.normal = (x - p.a).normalized();
+      sp.s = std::atan2(sp.normal.y(), sp.normal.x()) * p.radius;
+      sp.t = x.z() - p.a.z();
+      return sp;
     case Shape::Capsule: {
       const Eigen::Vector3d axis = (p.b - p.a).normalized();
       const double along = (x - p.a).dot(axis);
       const Eigen::Vector3d radial = x - p.a - along * axis;
-      n = radial.norm() > 1e-9 ? Eigen::Vector3d(radial.normalized()) : axis;
+      sp.normal = radial.norm() > 1e-9 ? Eigen::Vector3d(radial.normalized()) : axis;
       const Eigen::Vector3d ref = std::abs(axis.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
       const Eigen::Vector3d e1 = axis.cross(ref).normalized(), e2 = axis.cross(e1);
-      s = std::atan2(radial.dot(e2), radial.dot(e1)) * p.radius;
-      t = along;
-      return;
+      sp.s = std::atan2(radial.dot(e2), radial.dot(e1)) * p.radius;
+      sp.t = along;
+      return sp;
     }
   }
-}
-
-/// Corner-rich procedural texture: tiles of random colour, each split into four quadrants
-/// at a random point, with a fine speckle, all functions of the surface coordinates.
-Eigen::Vector3d texture(const Primitive& p, double s, double t) {
-  const double gs = s / p.tile, gt = t / p.tile;
-  const double fi = std::floor(gs), fj = std::floor(gt);
-  const auto i = static_cast<std::int64_t>(fi), j = static_cast<std::int64_t>(fj);
-  const std::uint64_t h = hash(p.material, static_cast<std::uint64_t>(i), static_cast<std::uint64_t>(j));
-  const double split_u = 0.25 + 0.5 * unit(mix(h + 1)), split_v = 0.25 + 0.5 * unit(mix(h + 2));
-  const int quadrant = (gs - fi > split_u ? 1 : 0) + (gt - fj > split_v ? 2 : 0);
-  const std::uint64_t hq = mix(h + 3 + static_cast<std::uint64_t>(quadrant));
-  Eigen::Vector3d c(40 + 200 * unit(hq), 40 + 200 * unit(mix(hq)), 40 + 200 * unit(mix(mix(hq))));
-  // A darker disc in some tiles: curved edges and more corners at small scale.
-  if (unit(mix(h + 9)) < 0.35) {
-    const double du = gs - fi - 0.5, dv = gt - fj - 0.5;
-    if (du * du + dv * dv < 0.06) c *= 0.35;
-  }
-  return c;
+  return sp;
 }
 
 struct Person {
-  double line_y = 0, speed = 1, offset = 0, half_length = 3.2, height = 1.75;
-  std::uint64_t top = 0, bottom = 0, skin = 0;
+  // Walkers go back and forth between two ends of a path (z = 0).
+  Eigen::Vector2d from = Eigen::Vector2d::Zero(), to = Eigen::Vector2d::Zero();
+  double speed = 1, offset = 0, height = 1.75;
+  Material top, bottom, skin;
   bool sitting = false;
   Eigen::Vector2d seat = Eigen::Vector2d::Zero();
 };
 
 void addCapsule(std::vector<Primitive>& out, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                double r, std::uint64_t material, double tile) {
+                double r, const Material& material) {
   Primitive p;
   p.shape = Shape::Capsule;
-  p.a = a, p.b = b, p.radius = r, p.material = material, p.tile = tile, p.dynamic = true;
+  p.a = a, p.b = b, p.radius = r, p.material = material, p.dynamic = true;
   out.push_back(p);
+}
+
+void addHead(std::vector<Primitive>& out, const Eigen::Vector3d& centre, const Material& skin) {
+  Primitive head;
+  head.shape = Shape::Sphere;
+  head.a = centre, head.radius = 0.11, head.material = skin, head.dynamic = true;
+  out.push_back(head);
 }
 
 /// Body parts of a person at time t (world frame, z up).
 void posePerson(const Person& person, double time, std::vector<Primitive>& out) {
   const double k = person.height / 1.75;
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   if (person.sitting) {
     const Eigen::Vector3d base(person.seat.x(), person.seat.y(), 0.45);
     const double wave = std::sin(2 * M_PI * time / 1.7), nod = 0.03 * std::sin(2 * M_PI * time / 2.3);
-    addCapsule(out, base + Eigen::Vector3d(0, 0, 0.1), base + Eigen::Vector3d(0, nod, 0.55 * k), 0.19, person.top, 0.07);
-    Primitive head;
-    head.shape = Shape::Sphere;
-    head.a = base + Eigen::Vector3d(0, nod * 1.5, 0.75 * k);
-    head.radius = 0.11, head.material = person.skin, head.tile = 0.05, head.dynamic = true;
-    out.push_back(head);
+    addCapsule(out, base + 0.1 * up, base + Eigen::Vector3d(0, nod, 0.55 * k), 0.19, person.top);
+    addHead(out, base + Eigen::Vector3d(0, nod * 1.5, 0.75 * k), person.skin);
     for (int side : {-1, 1}) {  // thighs forward (towards -y, the camera), shins down
       const Eigen::Vector3d hip = base + Eigen::Vector3d(0.1 * side, 0, 0.05);
       const Eigen::Vector3d knee = hip + Eigen::Vector3d(0, -0.42, 0);
-      addCapsule(out, hip, knee, 0.08, person.bottom, 0.06);
-      addCapsule(out, knee, Eigen::Vector3d(knee.x(), knee.y(), 0.05), 0.07, person.bottom, 0.06);
+      addCapsule(out, hip, knee, 0.08, person.bottom);
+      addCapsule(out, knee, Eigen::Vector3d(knee.x(), knee.y(), 0.05), 0.07, person.bottom);
       const Eigen::Vector3d shoulder = base + Eigen::Vector3d(0.25 * side, 0, 0.5 * k);
       const double lift = side > 0 ? 0.6 + 0.5 * wave : 0.3 - 0.3 * wave;  // gesturing arms
       const Eigen::Vector3d hand = shoulder + 0.55 * Eigen::Vector3d(0.3 * side, -std::sin(lift), -std::cos(lift));
-      addCapsule(out, shoulder, hand, 0.05, person.top, 0.07);
+      addCapsule(out, shoulder, hand, 0.05, person.top);
     }
     return;
   }
-  // Walkers go back and forth along their line, so they keep entering and leaving the view.
-  const double L = person.half_length;
-  double sdist = std::fmod(person.offset + person.speed * time, 4 * L);
-  const double dir = sdist < 2 * L ? 1.0 : -1.0;
-  const double x = sdist < 2 * L ? -L + sdist : 3 * L - sdist;
-  const Eigen::Vector3d feet(x, person.line_y, 0);
-  const Eigen::Vector3d fwd(dir, 0, 0), side(0, 1, 0);
-  const double phase = 2 * M_PI * (person.offset + person.speed * time) / 1.4;  // 1.4 m stride
-  const double swing = 0.45 * std::sin(phase);
-  addCapsule(out, feet + Eigen::Vector3d(0, 0, 1.0 * k), feet + Eigen::Vector3d(0, 0, 1.42 * k), 0.19, person.top, 0.07);
-  Primitive head;
-  head.shape = Shape::Sphere;
-  head.a = feet + Eigen::Vector3d(0, 0, 1.63 * k);
-  head.radius = 0.11, head.material = person.skin, head.tile = 0.05, head.dynamic = true;
-  out.push_back(head);
+  // Back and forth along the path, so walkers keep entering and leaving the view.
+  const Eigen::Vector2d span = person.to - person.from;
+  const double L = span.norm(), walked = person.offset + person.speed * time;
+  const double d = std::fmod(walked, 2 * L);
+  const bool outward = d < L;
+  const Eigen::Vector2d at = person.from + span * ((outward ? d : 2 * L - d) / L);
+  const Eigen::Vector2d heading = span.normalized() * (outward ? 1.0 : -1.0);
+  const Eigen::Vector3d feet(at.x(), at.y(), 0), fwd(heading.x(), heading.y(), 0), side(-heading.y(), heading.x(), 0);
+  const double swing = 0.45 * std::sin(2 * M_PI * walked / 1.4);  // 1.4 m stride
+  addCapsule(out, feet + 1.0 * k * up, feet + 1.42 * k * up, 0.19, person.top);
+  addHead(out, feet + 1.63 * k * up, person.skin);
   for (int s : {-1, 1}) {
     const double a = s * swing;
-    const Eigen::Vector3d hip = feet + Eigen::Vector3d(0, 0, 0.92 * k) + 0.1 * s * side;
-    addCapsule(out, hip, hip + 0.85 * k * (std::sin(a) * fwd - std::cos(a) * Eigen::Vector3d::UnitZ()), 0.08,
-               person.bottom, 0.06);
-    const Eigen::Vector3d shoulder = feet + Eigen::Vector3d(0, 0, 1.42 * k) + 0.26 * s * side;
-    addCapsule(out, shoulder, shoulder + 0.6 * k * (-std::sin(a) * fwd - std::cos(a) * Eigen::Vector3d::UnitZ()), 0.05,
-               person.top, 0.07);
+    const Eigen::Vector3d hip = feet + 0.92 * k * up + 0.1 * s * side;
+    addCapsule(out, hip, hip + 0.85 * k * (std::sin(a) * fwd - std::cos(a) * up), 0.08, person.bottom);
+    const Eigen::Vector3d shoulder = feet + 1.42 * k * up + 0.26 * s * side;
+    addCapsule(out, shoulder, shoulder + 0.6 * k * (-std::sin(a) * fwd - std::cos(a) * up), 0.05, person.top);
   }
 }
 
@@ -234,6 +218,7 @@ Eigen::Matrix3d lookRotation(const Eigen::Vector3d& forward) {
 
 struct Simulator::Scene {
   std::vector<Primitive> statics;
+  std::array<Material, 6> room_faces;  ///< the room box's faces: walls, floor (4), ceiling (5)
   std::vector<Person> people;
   Eigen::Vector3d camera_base;
   std::vector<double> handheld_phase;  // per axis and harmonic
@@ -252,57 +237,79 @@ SimOptions SimOptions::exact() {
 
 Simulator::Simulator(const SimOptions& options) : options_(options), scene_(std::make_unique<Scene>()) {
   Rng rng{mix(static_cast<std::uint64_t>(options.simulator.seed) + 17)};
-  auto material = [&]() { return mix(rng.s = mix(rng.s + 1)); };
-  auto box = [&](Eigen::Vector3d lo, Eigen::Vector3d hi, double tile) {
+  auto box = [&](Eigen::Vector3d lo, Eigen::Vector3d hi, const Material& material) {
     Primitive p;
-    p.a = lo, p.b = hi, p.material = material(), p.tile = tile;
+    p.a = lo, p.b = hi, p.material = material;
     scene_->statics.push_back(p);
   };
-  // Room 8 x 6 x 2.8 m, camera side at y = -3.
+  auto furniture = [&](double scale) {
+    return detail::randomMaterial(rng, Pattern::Tiles, scale, 0, 1, 0.5, 0.8, 0.15);
+  };
+  // Room 8 x 6 x 2.8 m, camera side at y = -3: tiled walls of one hue each, a parquet-like
+  // floor, a pale ceiling. (Regular brick walls gave look-alike corners: worse odometry.)
   Primitive room;
   room.a = Eigen::Vector3d(-4, -3, 0), room.b = Eigen::Vector3d(4, 3, 2.8);
-  room.inside = true, room.material = material(), room.tile = 0.25;
+  room.inside = true;
   scene_->statics.push_back(room);
+  for (int wall = 0; wall < 4; ++wall)
+    scene_->room_faces[static_cast<size_t>(wall)] = detail::randomMaterial(rng, Pattern::Tiles, 0.25, 0, 1, 0.35, 0.8, 0.12);
+  scene_->room_faces[4] = detail::randomMaterial(rng, Pattern::Tiles, 0.3, 0.05, 0.1, 0.55, 0.7, 0.06);
+  scene_->room_faces[5] = detail::randomMaterial(rng, Pattern::Tiles, 0.4, 0, 1, 0.08, 0.8, 0.2);
   // Furniture along the back and side walls (out of the walking corridor).
   for (int i = 0; i < 4; ++i) {  // tables with legs
     const double x0 = -3.4 + 1.8 * i + rng.uniform(-0.2, 0.2), y0 = rng.uniform(1.9, 2.2);
     const double w = rng.uniform(0.9, 1.4), d = rng.uniform(0.6, 0.8), h = rng.uniform(0.7, 0.78);
-    box({x0, y0, h - 0.04}, {x0 + w, y0 + d, h}, rng.uniform(0.08, 0.15));
+    box({x0, y0, h - 0.04}, {x0 + w, y0 + d, h}, furniture(rng.uniform(0.08, 0.15)));
+    const Material legs = furniture(0.1);
     for (double lx : {x0 + 0.03, x0 + w - 0.08})
-      for (double ly : {y0 + 0.03, y0 + d - 0.08}) box({lx, ly, 0}, {lx + 0.05, ly + 0.05, h - 0.04}, 0.1);
+      for (double ly : {y0 + 0.03, y0 + d - 0.08}) box({lx, ly, 0}, {lx + 0.05, ly + 0.05, h - 0.04}, legs);
     box({x0 + 0.2, y0 + 0.1, h}, {x0 + 0.2 + rng.uniform(0.2, 0.4), y0 + 0.4, h + rng.uniform(0.1, 0.35)},
-        rng.uniform(0.04, 0.08));  // something on the table
+        furniture(rng.uniform(0.04, 0.08)));  // something on the table
   }
   for (int side : {-1, 1}) {  // shelves and cabinets on the side walls
     box({side * 4.0 - (side > 0 ? 0.45 : -0.0), -1.5, 0}, {side * 4.0 + (side > 0 ? 0 : 0.45), -0.3, 2.0},
-        rng.uniform(0.1, 0.18));
+        furniture(rng.uniform(0.1, 0.18)));
     box({side * 4.0 - (side > 0 ? 0.5 : 0.0), 0.5, 0}, {side * 4.0 + (side > 0 ? 0 : 0.5), 1.6, 1.1},
-        rng.uniform(0.1, 0.2));
+        furniture(rng.uniform(0.1, 0.2)));
   }
   for (int i = 0; i < 5; ++i) {  // posters on the back wall
     const double x0 = -3.6 + 1.5 * i + rng.uniform(0, 0.4), z0 = rng.uniform(1.2, 1.6);
-    box({x0, 2.97, z0}, {x0 + rng.uniform(0.5, 0.9), 3.0, z0 + rng.uniform(0.5, 0.9)}, rng.uniform(0.04, 0.09));
+    box({x0, 2.97, z0}, {x0 + rng.uniform(0.5, 0.9), 3.0, z0 + rng.uniform(0.5, 0.9)},
+        detail::randomMaterial(rng, Pattern::Poster, 0.1, 0, 1, 0.7, 0.9, 1.0));
   }
-  box({2.6, -2.9, 0}, {3.4, -2.3, 0.9}, 0.12);  // a box near the camera side
+  box({2.6, -2.9, 0}, {3.4, -2.3, 0.9}, furniture(0.12));  // a box near the camera side
   const auto& po = options.people;
   scene_->camera_base = Eigen::Vector3d(0, -2.4, options.trajectory.height);
+  auto dress = [&](Person& p) {
+    p.top = detail::randomMaterial(rng, Pattern::Cloth, 0.07, 0, 1, 0.6, 0.85, 0.6);
+    p.bottom = detail::randomMaterial(rng, Pattern::Cloth, 0.06, 0, 1, 0.5, 0.6, 0.3);
+    p.skin = detail::randomMaterial(rng, Pattern::Skin, 0.05, 0.04, 0.09, rng.uniform(0.3, 0.6), rng.uniform(0.5, 0.9), 0);
+  };
+  // Walking paths cross the room from wall to wall at evenly spread distances; each end is
+  // moved towards or away from the camera by up to path_slant / 2, never onto a neighbour's path.
+  const double spacing = po.walkers > 1 ? (po.distance_max - po.distance_min) / (po.walkers - 1) : kInf;
+  const double slant = std::min(0.5 * po.path_slant, 0.3 * spacing);
+  const double corridor_near = scene_->camera_base.y() + 0.5, corridor_far = 1.5;
   for (int w = 0; w < po.walkers; ++w) {
     Person p;
     const double f = po.walkers > 1 ? static_cast<double>(w) / (po.walkers - 1) : 0.5;
-    p.line_y = scene_->camera_base.y() + po.distance_min + f * (po.distance_max - po.distance_min);
+    const double line_y = scene_->camera_base.y() + po.distance_min + f * (po.distance_max - po.distance_min);
+    auto end_y = [&] { return std::clamp(line_y + rng.uniform(-slant, slant), corridor_near, corridor_far); };
+    p.from = {-3.2, end_y()};
+    p.to = {3.2, end_y()};
     p.speed = po.speed_min + (po.speed_max - po.speed_min) * rng.uniform(0, 1);
     p.offset = rng.uniform(0, 12.8);
     p.height = rng.uniform(1.6, 1.9);
-    p.top = material(), p.bottom = material(), p.skin = material();
+    dress(p);
     scene_->people.push_back(p);
   }
   if (po.sitting) {
     Person p;
     p.sitting = true;
     p.seat = Eigen::Vector2d(0.9, scene_->camera_base.y() + 2.6);
-    p.top = material(), p.bottom = material(), p.skin = material();
+    dress(p);
     scene_->people.push_back(p);
-    box({0.65, p.seat.y() - 0.05, 0}, {1.15, p.seat.y() + 0.45, 0.43}, 0.08);  // the chair
+    box({0.65, p.seat.y() - 0.05, 0}, {1.15, p.seat.y() + 0.45, 0.43}, furniture(0.08));  // the chair
   }
   for (int k = 0; k < 18; ++k) scene_->handheld_phase.push_back(rng.uniform(0, 2 * M_PI));
 }
@@ -422,17 +429,21 @@ SimFrame Simulator::renderFrame(int index) const {
         const double t = zbuf.at<double>(v, u);
         const Eigen::Vector3d& d = rays[static_cast<size_t>(v * W + u)];
         const Eigen::Vector3d x = o + t * d;
-        Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
-        double s = 0, tt = 0;
-        surface(prims[static_cast<size_t>(k)], x, n, s, tt);
-        const Eigen::Vector3d c = texture(prims[static_cast<size_t>(k)], s, tt) * (0.6 + 0.4 * std::abs(n.dot(light)));
+        const Primitive& prim = prims[static_cast<size_t>(k)];
+        const SurfacePoint sp = surface(prim, x);
+        const Material& material = prim.inside ? scene_->room_faces[static_cast<size_t>(sp.face)] : prim.material;
+        const Eigen::Vector3d c = detail::textureColour(prim.shape == Shape::Box && !prim.inside
+                                                            ? material.reseeded(static_cast<std::uint64_t>(sp.face))
+                                                            : material,
+                                                        sp.s, sp.t, sp.width, sp.height) *
+                                  (0.6 + 0.4 * std::abs(sp.normal.dot(light)));
         const std::uint64_t h = hash(seed, static_cast<std::uint64_t>(index), static_cast<std::uint64_t>(v * W + u), 1);
         for (int ch = 0; ch < 3; ++ch) {
           const double noisy = c[2 - ch] + (so.image_noise > 0 ? so.image_noise * gaussian(mix(h + ch)) : 0.0);
           px[ch] = cv::saturate_cast<std::uint8_t>(noisy);
         }
         out.true_depth.at<double>(v, u) = t;  // d has unit z: t is the depth
-        cosines.at<double>(v, u) = std::abs(n.dot(d.normalized()));
+        cosines.at<double>(v, u) = std::abs(sp.normal.dot(d.normalized()));
         if (static_cast<size_t>(k) >= num_static) out.mask.at<std::uint8_t>(v, u) = 255;
       }
     }
@@ -477,6 +488,16 @@ SimFrame Simulator::renderFrame(int index) const {
   char name[64];
   std::snprintf(name, sizeof name, "frame %d", index);
   out.frame.name = name;
+  return out;
+}
+
+cv::Mat sideBySide(const SimFrame& frame, double max_depth) {
+  cv::Mat depth8, depth_colour, mask_colour, out;
+  frame.frame.depth.convertTo(depth8, CV_8U, 255.0 / (max_depth / frame.frame.depth_units));
+  cv::applyColorMap(depth8, depth_colour, cv::COLORMAP_TURBO);
+  depth_colour.setTo(cv::Scalar::all(0), frame.frame.depth == 0);
+  cv::cvtColor(frame.mask, mask_colour, cv::COLOR_GRAY2BGR);
+  cv::hconcat(std::vector<cv::Mat>{frame.frame.rgb, depth_colour, mask_colour}, out);
   return out;
 }
 

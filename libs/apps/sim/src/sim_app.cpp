@@ -16,7 +16,7 @@
 namespace gmc::apps {
 namespace fs = std::filesystem;
 namespace {
-const char* kUsage = "usage: gmc-sim <config.ini> --out DIR [--seed N] [--frames N]";
+const char* kUsage = "usage: gmc-sim <config.ini> --out DIR [--seed N] [--frames N] [--preview I]";
 
 int parseInt(const std::string& flag, const std::string& text) {
   try {
@@ -32,11 +32,12 @@ int parseInt(const std::string& flag, const std::string& text) {
 void SimApp::initialize(const std::vector<std::string>& args) {
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
-    if (a == "--out" || a == "--seed" || a == "--frames") {
+    if (a == "--out" || a == "--seed" || a == "--frames" || a == "--preview") {
       if (i + 1 >= args.size()) throw AppError(a + " needs a value\n" + kUsage, 2);
       const std::string& v = args[++i];
       if (a == "--out") out_ = v;
       else if (a == "--seed") seed_ = parseInt(a, v);
+      else if (a == "--preview") preview_ = parseInt(a, v);
       else frames_ = parseInt(a, v);
     } else if (!a.empty() && a[0] == '-') {
       throw AppError("unknown option '" + a + "'\n" + kUsage, 2);
@@ -55,6 +56,9 @@ int SimApp::run() {
   sim::SimOptions options = sim::loadSimOptions(ini, config_);
   if (seed_ >= 0) options.simulator.seed = seed_;
   if (frames_ > 0) options.simulator.frames = frames_;
+  if (preview_ >= options.simulator.frames)
+    throw AppError("--preview: frame " + std::to_string(preview_) + " is beyond the last frame (" +
+                   std::to_string(options.simulator.frames - 1) + ")", 2);
   const std::string override_error = validateOptions(options.simulator, "Simulator");
   if (!override_error.empty()) throw AppError("--seed/--frames: " + override_error);
   // Refuse to overwrite anything but an earlier gmc-sim output.
@@ -84,6 +88,7 @@ int SimApp::run() {
     depth_list.push_back({f.frame.stamp, "depth/" + name});
     gt.push_back({f.frame.stamp, f.T_world_camera});
     rawlog.write(f.frame);
+    if (i == preview_) datasets::writeImageAtomic((tmp / "preview.png").string(), sim::sideBySide(f));
     if (tty) {
       const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       const double fps = (i + 1) / el;

@@ -69,6 +69,7 @@ struct PeopleOptions {
   int walkers = 3;
   double speed_min = 0.5, speed_max = 1.5;  ///< m/s
   double distance_min = 1.0, distance_max = 4.0;  ///< m in front of the camera
+  double path_slant = 0.8;                  ///< m, change of distance along a path
   bool sitting = false;                     ///< a seated person who only gestures
   template <class V>
   void visit(V& v) {
@@ -77,6 +78,8 @@ struct PeopleOptions {
     v("speed_max", speed_max, 0.0, 5.0, "fastest walker (m/s)");
     v("distance_min", distance_min, 0.3, 6.0, "nearest walking line (m from the camera)");
     v("distance_max", distance_max, 0.3, 6.0, "farthest walking line (m from the camera)");
+    v("path_slant", path_slant, 0.0, 3.0,
+      "how much a walker's distance from the camera changes along its path (m), 0 = parallel paths");
     v("sitting", sitting, "add a seated person who gestures");
   }
 };
@@ -116,6 +119,10 @@ struct SimFrame {
   Isometry T_world_camera;              ///< optical frame; world z up
   cv::Mat true_depth;                   ///< CV_64FC1 noise-free depth (m), 0 = no surface
 };
+
+/// One picture of a frame for people: RGB | depth (colour map, 0 to max_depth metres,
+/// black = no reading) | ground-truth mask, side by side (CV_8UC3).
+cv::Mat sideBySide(const SimFrame& frame, double max_depth = 6.0);
 
 class Simulator {
  public:
