@@ -379,9 +379,8 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
   }
   // The background is the cluster near zero motion backed by most points; other clusters
   // near zero motion are background fragments cut off by a mover.
-  auto nearZero = [&](const Eigen::Vector3d& m) {
-    return std::abs(m.x()) <= 1.0 && std::abs(m.y()) <= 1.0 && std::abs(m.z()) <= 1.0;
-  };
+  const double static_tol = p.static_tolerance;
+  auto nearZero = [&](const Eigen::Vector3d& m) { return m.cwiseAbs().maxCoeff() <= static_tol; };
   for (size_t c = 0; c < result.clusters.size(); ++c) {
     auto& cl = result.clusters[c];
     if (!nearZero(cl.mean_residual)) continue;
@@ -400,7 +399,7 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
     result.static_cluster = best;
     const Eigen::Vector3d ref = result.clusters[static_cast<size_t>(best)].mean_residual;
     for (auto& cl : result.clusters)
-      cl.is_static = (cl.mean_residual - ref).cwiseAbs().maxCoeff() <= 1.0;
+      cl.is_static = nearZero(cl.mean_residual - ref);
   }
   Eigen::Vector3f static_motion = Eigen::Vector3f::Zero();
   if (result.static_cluster >= 0)

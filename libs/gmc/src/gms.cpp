@@ -47,25 +47,32 @@ class GmsRun {
       c2_[i] = right.cell(b.x, b.y);
       ++points_per_cell_[static_cast<size_t>(c1_[i])];
     }
-    // Pair counts, grouped by left cell: sort match indices by (c1, c2).
-    order_.resize(m);
-    for (size_t i = 0; i < m; ++i) order_[i] = static_cast<int>(i);
-    std::sort(order_.begin(), order_.end(), [&](int a, int b) {
-      return c1_[static_cast<size_t>(a)] != c1_[static_cast<size_t>(b)]
-                 ? c1_[static_cast<size_t>(a)] < c1_[static_cast<size_t>(b)]
-                 : c2_[static_cast<size_t>(a)] < c2_[static_cast<size_t>(b)];
-    });
+    // Pair counts, grouped by left cell: a counting sort by left cell, then per left cell
+    // one pass with a counter per right cell (stamped, so it is never cleared): O(N + cells).
     pair_start_.assign(static_cast<size_t>(n1) + 1, 0);
-    pairs_.clear();  // (c2, count), contiguous per c1
-    for (size_t k = 0; k < m;) {
-      size_t e = k;
-      const int a = c1_[static_cast<size_t>(order_[k])], b = c2_[static_cast<size_t>(order_[k])];
-      while (e < m && c1_[static_cast<size_t>(order_[e])] == a && c2_[static_cast<size_t>(order_[e])] == b) ++e;
-      pairs_.push_back({b, static_cast<int>(e - k)});
-      ++pair_start_[static_cast<size_t>(a) + 1];
-      k = e;
-    }
+    for (size_t i = 0; i < m; ++i) ++pair_start_[static_cast<size_t>(c1_[i]) + 1];
     for (int c = 0; c < n1; ++c) pair_start_[static_cast<size_t>(c) + 1] += pair_start_[static_cast<size_t>(c)];
+    order_.resize(m);
+    fill_.assign(pair_start_.begin(), pair_start_.end() - 1);
+    for (size_t i = 0; i < m; ++i) order_[static_cast<size_t>(fill_[static_cast<size_t>(c1_[i])]++)] = static_cast<int>(i);
+    const size_t n2 = static_cast<size_t>(right.cols * right.rows);
+    right_count_.assign(n2, 0);
+    right_stamp_.assign(n2, -1);
+    pairs_.clear();  // (c2, count), contiguous per c1
+    for (int a = 0; a < n1; ++a) {
+      const int first_pair = static_cast<int>(pairs_.size());
+      for (int k = pair_start_[static_cast<size_t>(a)]; k < pair_start_[static_cast<size_t>(a) + 1]; ++k) {
+        const auto b = static_cast<size_t>(c2_[static_cast<size_t>(order_[static_cast<size_t>(k)])]);
+        if (right_stamp_[b] != a) {
+          right_stamp_[b] = a;
+          right_count_[b] = static_cast<int>(pairs_.size());
+          pairs_.push_back({static_cast<int>(b), 0});
+        }
+        ++pairs_[static_cast<size_t>(right_count_[b])][1];
+      }
+      pair_start_[static_cast<size_t>(a)] = first_pair;
+    }
+    pair_start_[static_cast<size_t>(n1)] = static_cast<int>(pairs_.size());
     auto pairCount = [&](int a, int b) {
       for (int k = pair_start_[static_cast<size_t>(a)]; k < pair_start_[static_cast<size_t>(a) + 1]; ++k)
         if (pairs_[static_cast<size_t>(k)][0] == b) return pairs_[static_cast<size_t>(k)][1];
@@ -109,7 +116,8 @@ class GmsRun {
   const std::vector<GmsKeypoint>& kp2_;
   const std::vector<GmsMatch>& matches_;
   double alpha_;
-  std::vector<int> c1_, c2_, points_per_cell_, order_, pair_start_, best_;
+  std::vector<int> c1_, c2_, points_per_cell_, order_, pair_start_, fill_, best_;
+  std::vector<int> right_count_, right_stamp_;  // per right cell: index into pairs_, owner
   std::vector<std::array<int, 2>> pairs_;
 };
 

@@ -37,6 +37,7 @@ struct GmcParams {
   int min_cell_points = 3;     ///< leaves with fewer points do not vote
   int min_cluster_size = 10;   ///< clusters with fewer features are dropped (Alg. 2)
   double merge_tolerance = 0.75;  ///< leaves join a cluster within this many intervals
+  double static_tolerance = 1.0;  ///< clusters within this many intervals of zero are static
   int max_rounds = 4;          ///< shifted-binning rounds until the assignment is stable
 
   template <class V>
@@ -59,6 +60,8 @@ struct GmcParams {
     v("min_cluster_size", min_cluster_size, 1, 100000, "clusters with fewer features are dropped");
     v("merge_tolerance", merge_tolerance, 0.01, 10.0,
       "a leaf joins an adjacent cluster whose motion is within this many intervals");
+    v("static_tolerance", static_tolerance, 0.01, 10.0,
+      "clusters whose mean motion is within this many intervals of zero are background");
     v("max_rounds", max_rounds, 1, 100, "shifted-binning rounds until stable");
   }
 };
@@ -77,7 +80,7 @@ struct GmcCell {
 
 /// A merged motion cluster.
 struct GmcCluster {
-  int support = 0;                     ///< matches in the cluster's winning patterns                     ///< matches in the cluster
+  int support = 0;                     ///< matches in the winning patterns of its leaves
   Eigen::Vector3d mean_residual = Eigen::Vector3d::Zero();  ///< mean e, in pattern intervals
   Eigen::Vector3d mean_motion = Eigen::Vector3d::Zero();    ///< mean 3-D residual (m)
   bool is_static = false;
