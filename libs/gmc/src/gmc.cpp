@@ -19,8 +19,11 @@ constexpr int kBinSpan = 2 * kBinLimit + 1;
 constexpr std::array<std::array<float, 3>, kBinnings> kShift = {{
     {0.f, 0.f, 0.f}, {0.5f, 0.f, 0.f}, {0.f, 0.f, 0.5f}, {0.5f, 0.f, 0.5f}}};
 
+/// round(v) clamped to [-kBinLimit, kBinLimit]; the shift to positive values makes the
+/// truncating cast a floor (std::lround was a tenth of the run time).
 inline int clampBin(float v) {
-  return std::clamp(static_cast<int>(std::lround(v)), -kBinLimit, kBinLimit);
+  const float c = std::clamp(v, static_cast<float>(-kBinLimit), static_cast<float>(kBinLimit));
+  return static_cast<int>(c + (static_cast<float>(kBinLimit) + 0.5f)) - kBinLimit;
 }
 
 }  // namespace
@@ -43,7 +46,26 @@ struct GmcClassifier::Workspace {
   std::vector<std::int32_t> sort_buf;
   std::vector<int> raster;                  // leaf id per finest quadtree unit
   std::vector<int> order, queue;
-  std::vector<std::vector<int>> neighbours;
+  // Leaf adjacency, flat (CSR): neighbours of leaf a are nb[nb_start[a] .. nb_start[a+1]).
+  std::vector<std::array<int, 2>> edges;
+  std::vector<int> nb_start, nb_fill, nb, nb_stamp;
+  struct Range {
+    const int *b, *e;
+    const int* begin() const { return b; }
+    const int* end() const { return e; }
+  };
+  Range neighbours(size_t id) const {
+    return {nb.data() + nb_start[id], nb.data() + nb_start[id + 1]};
+  }
+  struct Acc {  // a cluster while it grows
+    Eigen::Vector3f weighted = Eigen::Vector3f::Zero();
+    int support = 0;
+    int leaves = 0;
+  };
+  std::vector<Acc> acc;
+  std::vector<int> remap, motion_count;
+  std::vector<Eigen::Vector3d> motion_sum;
+  std::vector<Eigen::Vector3f> static_cands, dynamic_cands;  // per-leaf label candidates
 };
 
 GmcClassifier::GmcClassifier(const GmcParams& params)
@@ -60,9 +82,23 @@ std::int32_t packCode(int bx, int by, int bz) {
 GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
                                   const Isometry& T_ref_cur, int image_width, int image_height) {
   GmcResult result;
+  classify(matches, T_ref_cur, image_width, image_height, result);
+  return result;
+}
+
+void GmcClassifier::classify(const std::vector<MotionMatch>& matches, const Isometry& T_ref_cur,
+                             int image_width, int image_height, GmcResult& result) {
   const size_t n = matches.size();
+  // Reset every field but keep the vectors' capacity.
   result.labels.assign(n, MotionLabel::Undecided);
-  if (n == 0 || image_width <= 0 || image_height <= 0) return result;
+  result.cells.clear();
+  result.clusters.clear();
+  result.static_cluster = -1;
+  result.static_fallback = false;
+  result.iterations = 0;
+  result.grid_cols = result.grid_rows = 0;
+  result.num_static = result.num_dynamic = result.num_undecided = 0;
+  if (n == 0 || image_width <= 0 || image_height <= 0) return;
   Workspace& w = *ws_;
   const GmcParams& p = params_;
 
@@ -109,7 +145,7 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
       if (w.valid[i]) result.labels[i] = MotionLabel::Static;
     result.num_static = num_valid;
     result.num_undecided = static_cast<int>(n) - num_valid;
-    return result;
+    return;
   }
 
   // --- Alg. 1 l.4-8: grid cells; matches sorted by cell (counting sort, no allocation).
@@ -264,15 +300,11 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
     for (int v = v0; v < std::max(v1, v0 + 1) && v < rh; ++v)
       for (int u = u0; u < std::max(u1, u0 + 1) && u < rw; ++u) w.raster[static_cast<size_t>(v * rw + u)] = static_cast<int>(id);
   }
-  w.neighbours.resize(std::max(w.neighbours.size(), num_leaves));
-  for (size_t id = 0; id < num_leaves; ++id) w.neighbours[id].clear();
+  w.edges.clear();
   auto link = [&](int a, int b) {
     if (a < 0 || b < 0 || a == b) return;
-    auto& na = w.neighbours[static_cast<size_t>(a)];
-    if (std::find(na.begin(), na.end(), b) == na.end()) {
-      na.push_back(b);
-      w.neighbours[static_cast<size_t>(b)].push_back(a);
-    }
+    w.edges.push_back({a, b});
+    w.edges.push_back({b, a});
   };
   for (int v = 0; v < rh; ++v)
     for (int u = 0; u < rw; ++u) {
@@ -282,6 +314,26 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
       if (u + 1 < rw && v + 1 < rh) link(a, w.raster[static_cast<size_t>((v + 1) * rw + u + 1)]);
       if (u > 0 && v + 1 < rh) link(a, w.raster[static_cast<size_t>((v + 1) * rw + u - 1)]);
     }
+  // Counting sort of the edges by their first leaf, duplicates dropped with a stamp.
+  w.nb_start.assign(num_leaves + 1, 0);
+  for (const auto& e : w.edges) ++w.nb_start[static_cast<size_t>(e[0]) + 1];
+  for (size_t id = 0; id < num_leaves; ++id) w.nb_start[id + 1] += w.nb_start[id];
+  w.nb_fill.assign(w.nb_start.begin(), w.nb_start.end() - 1);
+  w.nb.resize(w.edges.size());
+  for (const auto& e : w.edges) w.nb[static_cast<size_t>(w.nb_fill[static_cast<size_t>(e[0])]++)] = e[1];
+  w.nb_stamp.assign(num_leaves, -1);
+  int kept = 0;
+  for (size_t id = 0; id < num_leaves; ++id) {
+    const int first = w.nb_start[id], last = w.nb_start[id + 1];
+    w.nb_start[id] = kept;
+    for (int k = first; k < last; ++k) {
+      const int b = w.nb[static_cast<size_t>(k)];
+      if (w.nb_stamp[static_cast<size_t>(b)] == static_cast<int>(id)) continue;
+      w.nb_stamp[static_cast<size_t>(b)] = static_cast<int>(id);
+      w.nb[static_cast<size_t>(kept++)] = b;
+    }
+  }
+  w.nb_start[num_leaves] = kept;
 
   // --- Alg. 2 merge with non-maximum suppression: leaves in decreasing support seed
   // clusters; a seed absorbs adjacent voting leaves whose motion lies within one
@@ -297,15 +349,15 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
   w.order.clear();
   for (size_t id = 0; id < num_leaves; ++id)
     if (w.leaves[id].votes) w.order.push_back(static_cast<int>(id));
-  std::stable_sort(w.order.begin(), w.order.end(), [&](int a, int b) {
-    return w.leaves[static_cast<size_t>(a)].winner_count > w.leaves[static_cast<size_t>(b)].winner_count;
+  // Decreasing support, ties by leaf id (std::stable_sort would allocate a buffer).
+  std::sort(w.order.begin(), w.order.end(), [&](int a, int b) {
+    const int ca = w.leaves[static_cast<size_t>(a)].winner_count;
+    const int cb = w.leaves[static_cast<size_t>(b)].winner_count;
+    return ca != cb ? ca > cb : a < b;
   });
-  struct Acc {
-    Eigen::Vector3f weighted = Eigen::Vector3f::Zero();
-    int support = 0;
-    int leaves = 0;
-  };
-  std::vector<Acc> acc;
+  using Acc = Workspace::Acc;
+  std::vector<Acc>& acc = w.acc;
+  acc.clear();
   for (int seed : w.order) {
     if (w.leaves[static_cast<size_t>(seed)].cluster >= 0) continue;
     const int cid = static_cast<int>(acc.size());
@@ -323,7 +375,7 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
     while (!w.queue.empty()) {
       const int id = w.queue.back();
       w.queue.pop_back();
-      for (int nb : w.neighbours[static_cast<size_t>(id)]) {
+      for (int nb : w.neighbours(static_cast<size_t>(id))) {
         auto& leaf = w.leaves[static_cast<size_t>(nb)];
         if (!leaf.votes || leaf.cluster >= 0) continue;
         const Eigen::Vector3f mean = a.weighted / static_cast<float>(a.support);
@@ -341,7 +393,7 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
     for (int id : w.order) {
       auto& leaf = w.leaves[static_cast<size_t>(id)];
       int best = leaf.cluster;
-      for (int nb : w.neighbours[static_cast<size_t>(id)]) {
+      for (int nb : w.neighbours(static_cast<size_t>(id))) {
         const int c = w.leaves[static_cast<size_t>(nb)].cluster;
         if (c < 0 || c == best) continue;
         const Eigen::Vector3f mean = acc[static_cast<size_t>(c)].weighted / static_cast<float>(acc[static_cast<size_t>(c)].support);
@@ -367,7 +419,8 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
   }
 
   // Clusters: drop small ones, pick the static background (Sec. 3.3 prior).
-  std::vector<int> remap(acc.size(), -1);
+  std::vector<int>& remap = w.remap;
+  remap.assign(acc.size(), -1);
   for (size_t c = 0; c < acc.size(); ++c) {
     if (acc[c].support < p.min_cluster_size || acc[c].leaves == 0) continue;
     remap[c] = static_cast<int>(result.clusters.size());
@@ -407,37 +460,43 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
 
   // --- Per-match labels. The leaf's cluster decides; a match contradicting it clearly
   // (own residual within half an interval of the other class) is relabelled.
-  std::vector<Eigen::Vector3d> motion_sum(result.clusters.size(), Eigen::Vector3d::Zero());
-  std::vector<int> motion_count(result.clusters.size(), 0);
+  std::vector<Eigen::Vector3d>& motion_sum = w.motion_sum;
+  std::vector<int>& motion_count = w.motion_count;
+  motion_sum.assign(result.clusters.size(), Eigen::Vector3d::Zero());
+  motion_count.assign(result.clusters.size(), 0);
   for (auto& leaf : w.leaves)
     leaf.cluster = leaf.cluster >= 0 ? remap[static_cast<size_t>(leaf.cluster)] : -1;
   for (size_t id = 0; id < num_leaves; ++id) {
     auto& leaf = w.leaves[id];
     const int cl = leaf.cluster;
+    if (leaf.count == 0) continue;
     const bool leaf_static = cl >= 0 && result.clusters[static_cast<size_t>(cl)].is_static;
+    // Candidate motions for the leaf's matches: the static background, the leaf's own
+    // cluster and the clusters of adjacent leaves; each match takes the nearest, and one
+    // far from all of them stays Undecided. A static leaf's motion stands for local
+    // background (a slightly wrong guess makes it vary across the image) only while it
+    // is close to the global one.
+    w.static_cands.assign(1, static_motion);
+    w.dynamic_cands.clear();
+    if (leaf_static && distance(leaf.motion, static_motion) <= 0.5f)
+      w.static_cands.push_back(leaf.motion);
+    if (cl >= 0 && !leaf_static) w.dynamic_cands.push_back(leaf.motion);
+    for (int nb : w.neighbours(id)) {
+      const auto& other_leaf = w.leaves[static_cast<size_t>(nb)];
+      const int c = other_leaf.cluster;
+      if (c < 0) continue;
+      if (!result.clusters[static_cast<size_t>(c)].is_static)
+        w.dynamic_cands.push_back(other_leaf.motion);
+      else if (distance(other_leaf.motion, static_motion) <= 0.5f)
+        w.static_cands.push_back(other_leaf.motion);
+    }
     for (int k = 0; k < leaf.count; ++k) {
       const int i = w.items[static_cast<size_t>(leaf.first + k)];
       const Eigen::Vector3f& e = w.e[static_cast<size_t>(i)];
-      // Nearest motion among the static background, the leaf's own cluster and the
-      // clusters of adjacent leaves; a match far from all of them stays Undecided.
-      const Eigen::Vector3f& own = cl >= 0 ? leaf.motion : static_motion;
-      float best_static = distance(e, static_motion);
-      // A static leaf's own motion stands for local background (a slightly wrong guess
-      // makes it vary across the image) only while it is close to the global one.
-      if (leaf_static && distance(own, static_motion) <= 0.5f)
-        best_static = std::min(best_static, distance(e, own));
-      float best_dynamic = cl >= 0 && !leaf_static ? distance(e, own)
-                                                   : std::numeric_limits<float>::max();
-      for (int nb : w.neighbours[id]) {
-        const auto& other_leaf = w.leaves[static_cast<size_t>(nb)];
-        const int c = other_leaf.cluster;
-        if (c < 0) continue;
-        const float d = distance(e, other_leaf.motion);
-        if (result.clusters[static_cast<size_t>(c)].is_static) {
-          if (distance(other_leaf.motion, static_motion) <= 0.5f) best_static = std::min(best_static, d);
-        } else
-          best_dynamic = std::min(best_dynamic, d);
-      }
+      float best_static = std::numeric_limits<float>::max();
+      float best_dynamic = std::numeric_limits<float>::max();
+      for (const auto& c : w.static_cands) best_static = std::min(best_static, distance(e, c));
+      for (const auto& c : w.dynamic_cands) best_dynamic = std::min(best_dynamic, distance(e, c));
       MotionLabel label = MotionLabel::Undecided;
       const float reach = cl >= 0 ? 2.0f : 1.0f;  // in intervals
       if (result.static_cluster >= 0 || best_dynamic < reach) {
@@ -483,7 +542,6 @@ GmcResult GmcClassifier::classify(const std::vector<MotionMatch>& matches,
     else if (l == MotionLabel::Dynamic) ++result.num_dynamic;
     else ++result.num_undecided;
   }
-  return result;
 }
 
 }  // namespace gmc

@@ -109,6 +109,10 @@ class GmcClassifier {
   /// non-positive depth are labelled Undecided and otherwise ignored.
   GmcResult classify(const std::vector<MotionMatch>& matches, const Isometry& T_ref_cur,
                      int image_width, int image_height);
+  /// The same, writing into `out` and reusing its vectors (no allocation once they and
+  /// the internal buffers have grown to the frame's size).
+  void classify(const std::vector<MotionMatch>& matches, const Isometry& T_ref_cur,
+                int image_width, int image_height, GmcResult& out);
 
  private:
   GmcParams params_;
