@@ -41,14 +41,33 @@ Mover box(double u0, double v0, double w, double h, double depth, double vx, dou
   return {u0, v0, u0 + w, v0 + h, depth, Eigen::Vector3d(vx, 0, vz)};
 }
 
+struct MoverCase {
+  const char* name;
+  std::vector<Mover> movers;
+  double gap;  ///< frames between reference and current (30 Hz)
+};
+
+/// Runs every case with three noise draws and expects dynamic precision and recall >= 0.95.
+void expectFound(const std::vector<MoverCase>& cases, unsigned first_seed, double pixel_noise,
+                 const GmcParams& params) {
+  unsigned seed = first_seed;
+  for (const auto& c : cases)
+    for (int repeat = 0; repeat < 3; ++repeat) {
+      Scenario s;
+      s.movers = c.movers;
+      s.frame_gap = c.gap;
+      s.pixel_noise = pixel_noise;
+      s.seed = seed++;
+      s.T_ref_cur = synth::cameraMotion(0.01 * c.gap, -0.003, 0.008 * c.gap, 0.3 * c.gap);
+      const auto sc = runAndPrint(c.name, s, nullptr, params);
+      EXPECT_GE(sc.precision(), 0.95) << c.name << " seed " << s.seed;
+      EXPECT_GE(sc.recall(), 0.95) << c.name << " seed " << s.seed;
+    }
+}
+
 // Grid cells are 32 x 32 px at the default 20 x 15 grid on 640 x 480.
 TEST(Gmc, MoversAtLeastTwoCellsWideAreFoundWithHighPrecisionAndRecall) {
-  struct Case {
-    const char* name;
-    std::vector<Mover> movers;
-    double gap;
-  };
-  const std::vector<Case> cases = {
+  const std::vector<MoverCase> cases = {
       {"walker 3 cells, 2 m, 1.0 m/s x", {box(300, 100, 96, 300, 2.0, 1.0, 0)}, 1},
       {"walker 1/3 image, 1.5 m, 1.5 m/s z", {box(200, 40, 213, 420, 1.5, 0, 1.5)}, 1},
       {"2 cells, 1 m, 0.5 m/s x", {box(64, 96, 64, 200, 1.0, 0.5, 0)}, 1},
@@ -60,30 +79,14 @@ TEST(Gmc, MoversAtLeastTwoCellsWideAreFoundWithHighPrecisionAndRecall) {
         box(500, 200, 100, 200, 4.0, 0, -1.5)},
        3},
   };
-  unsigned seed = 11;
-  for (const auto& c : cases)
-    for (int repeat = 0; repeat < 3; ++repeat) {  // three noise draws per case
-      Scenario s;
-      s.movers = c.movers;
-      s.frame_gap = c.gap;
-      s.seed = seed++;
-      s.T_ref_cur = synth::cameraMotion(0.01 * c.gap, -0.003, 0.008 * c.gap, 0.3 * c.gap);
-      const auto sc = runAndPrint(c.name, s);
-      EXPECT_GE(sc.precision(), 0.95) << c.name << " seed " << s.seed;
-      EXPECT_GE(sc.recall(), 0.95) << c.name << " seed " << s.seed;
-    }
+  expectFound(cases, 11, 0.5, syntheticParams());
 }
 
 // Default parameters (intervals of 1 cm per metre of distance, set on real TUM/Bonn data)
 // at the keypoint noise of a real Kinect + GFTT pair (1 px). Movers must displace by more
 // than about 1.3 intervals between the compared frames (doc/gmc.md, detection limit).
 TEST(Gmc, DefaultParametersAtOnePixelNoise) {
-  struct Case {
-    const char* name;
-    std::vector<Mover> movers;
-    double gap;
-  };
-  const std::vector<Case> cases = {
+  const std::vector<MoverCase> cases = {
       {"walker 3 cells, 2 m, 1.0 m/s x", {box(300, 100, 96, 300, 2.0, 1.0, 0)}, 1},
       {"walker 1/3 image, 1.5 m, 1.5 m/s z", {box(200, 40, 213, 420, 1.5, 0, 1.5)}, 1},
       {"2 cells, 1 m, 0.5 m/s x", {box(64, 96, 64, 200, 1.0, 0.5, 0)}, 1},
@@ -93,19 +96,7 @@ TEST(Gmc, DefaultParametersAtOnePixelNoise) {
         box(500, 200, 100, 200, 4.0, 0, -1.5)},
        3},
   };
-  unsigned seed = 101;
-  for (const auto& c : cases)
-    for (int repeat = 0; repeat < 3; ++repeat) {
-      Scenario s;
-      s.movers = c.movers;
-      s.frame_gap = c.gap;
-      s.pixel_noise = 1.0;
-      s.seed = seed++;
-      s.T_ref_cur = synth::cameraMotion(0.01 * c.gap, -0.003, 0.008 * c.gap, 0.3 * c.gap);
-      const auto sc = runAndPrint(c.name, s, nullptr, GmcParams{});
-      EXPECT_GE(sc.precision(), 0.95) << c.name << " seed " << s.seed;
-      EXPECT_GE(sc.recall(), 0.95) << c.name << " seed " << s.seed;
-    }
+  expectFound(cases, 101, 1.0, GmcParams{});
 }
 
 // A mover of one grid cell holds ~5 of 1,500 matches: below min_cluster_size, so it is
