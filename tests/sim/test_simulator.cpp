@@ -2,10 +2,13 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <tuple>
 
+#include "gmc/config/ini.h"
+#include "gmc/sim/sim_config.h"
 #include "gmc/sim/simulator.h"
 
 namespace {
@@ -304,4 +307,39 @@ TEST(Simulator, AWalkerEntersAndLeavesTheView) {
   EXPECT_GT(with, 0);
   EXPECT_GT(without, 0);
 }
+/// Visitor that lists the keys of an options struct.
+struct KeyLister {
+  std::vector<std::string> keys;
+  template <class... Rest>
+  void operator()(const char* key, Rest&&...) { keys.push_back(key); }
+  void choice(const char* key, const std::string&, std::initializer_list<const char*>, const char*) {
+    keys.push_back(key);
+  }
+};
+
+TEST(SimConfig, ShippedScenariosLoadAndTheReferenceListsEveryKey) {
+  int scenarios = 0;
+  for (const auto& e : std::filesystem::directory_iterator(GMC_SOURCE_DIR "/config/sim")) {
+    if (e.path().extension() != ".ini") continue;
+    const auto ini = gmc::cfg::loadIniFile(e.path().string());
+    EXPECT_NO_THROW(gmc::sim::loadSimOptions(ini, e.path().string())) << e.path();
+    ++scenarios;
+  }
+  EXPECT_GE(scenarios, 6);
+  // walkers_xyz.ini documents every key: each section holds all of its struct's keys.
+  const auto ini = gmc::cfg::loadIniFile(GMC_SOURCE_DIR "/config/sim/walkers_xyz.ini");
+  SimOptions o;
+  auto check = [&](const char* section, auto& options) {
+    KeyLister lister;
+    options.visit(lister);
+    for (const auto& key : lister.keys)
+      EXPECT_TRUE(ini.keyExists(section, key)) << "walkers_xyz.ini lacks [" << section << "] " << key;
+  };
+  check("Simulator", o.simulator);
+  check("Camera", o.camera);
+  check("Trajectory", o.trajectory);
+  check("People", o.people);
+  check("Sensor", o.sensor);
+}
+
 }  // namespace

@@ -214,6 +214,15 @@ Eigen::Matrix3d lookRotation(const Eigen::Vector3d& forward) {
   return R;
 }
 
+/// Runs fn(first, step) on `threads` threads: thread i takes rows i, i + threads, ...
+/// Every pixel's result depends on the pixel only, so the output is the same for any count.
+template <class Fn>
+void forRowsInParallel(int threads, const Fn& fn) {
+  std::vector<std::thread> pool;
+  for (int i = 0; i < threads; ++i) pool.emplace_back(fn, i, threads);
+  for (auto& th : pool) th.join();
+}
+
 }  // namespace
 
 struct Simulator::Scene {
@@ -402,13 +411,16 @@ SimFrame Simulator::renderFrame(int index) const {
   const std::uint64_t seed = static_cast<std::uint64_t>(options_.simulator.seed);
 
   std::vector<Eigen::Vector3d> rays(static_cast<size_t>(W) * static_cast<size_t>(H));
-  auto renderRows = [&](int r0, int r1) {
-    for (int v = r0; v < r1; ++v)
+  // Thread `first` renders rows first, first + step, ...: interleaved rows share the work
+  // evenly (people and near furniture crowd the lower half of the image).
+  auto renderRows = [&](int first, int step) {
+    for (int v = first; v < H; v += step)
       for (int u = 0; u < W; ++u)
         rays[static_cast<size_t>(v * W + u)] = R * Eigen::Vector3d((u - co.cx) / co.fx, (v - co.cy) / co.fy, 1.0);
     for (size_t k = 0; k < prims.size(); ++k) {
       const Rect& rc = rects[k];
-      for (int v = std::max(r0, rc.v0); v < std::min(r1, rc.v1); ++v) {
+      const int v_start = rc.v0 + ((first - rc.v0) % step + step) % step;  // first own row >= v0
+      for (int v = v_start; v < rc.v1; v += step) {
         double* z = zbuf.ptr<double>(v);
         int* id = ids.ptr<int>(v);
         for (int u = rc.u0; u < rc.u1; ++u) {
@@ -418,7 +430,7 @@ SimFrame Simulator::renderFrame(int index) const {
       }
     }
     // Shade each pixel once, from its nearest surface.
-    for (int v = r0; v < r1; ++v) {
+    for (int v = first; v < H; v += step) {
       for (int u = 0; u < W; ++u) {
         const int k = ids.at<int>(v, u);
         auto& px = out.frame.rgb.at<cv::Vec3b>(v, u);
@@ -449,16 +461,14 @@ SimFrame Simulator::renderFrame(int index) const {
     }
   };
   const int threads = std::max(1, std::min(options_.simulator.threads, H));
-  std::vector<std::thread> pool;
-  for (int i = 0; i < threads; ++i)
-    pool.emplace_back(renderRows, H * i / threads, H * (i + 1) / threads);
-  for (auto& th : pool) th.join();
+  forRowsInParallel(threads, renderRows);
 
-  // Sensor model on the depth image.
+  // Sensor model on the depth image (needs the neighbouring rows: after all are rendered).
   out.frame.depth = cv::Mat::zeros(H, W, CV_16UC1);
   const double cos_limit = std::cos(so.grazing_angle * M_PI / 180);
   const double disparity_step = 0.0015;  // 1/m: ~6 mm steps at 2 m, like a Kinect's 1/8 px
-  for (int v = 0; v < H; ++v)
+  forRowsInParallel(threads, [&](int first, int step) {
+  for (int v = first; v < H; v += step)
     for (int u = 0; u < W; ++u) {
       double z = out.true_depth.at<double>(v, u);
       if (z <= 0 || z > so.max_range) continue;
@@ -481,6 +491,7 @@ SimFrame Simulator::renderFrame(int index) const {
       out.frame.depth.at<std::uint16_t>(v, u) =
           static_cast<std::uint16_t>(std::clamp(std::lround(z * 5000.0), 0L, 65535L));
     }
+  });
   out.frame.stamp = stamp(index);
   out.frame.depth_units = 1.0 / 5000.0;
   out.frame.camera.fx = co.fx, out.frame.camera.fy = co.fy, out.frame.camera.cx = co.cx, out.frame.camera.cy = co.cy;

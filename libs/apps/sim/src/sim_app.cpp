@@ -27,6 +27,47 @@ int parseInt(const std::string& flag, const std::string& text) {
   }
   throw AppError(flag + ": '" + text + "' is not a non-negative integer\n" + kUsage, 2);
 }
+
+/// Removes the folder being assembled unless the run completed (no half-written output).
+class PartialDir {
+ public:
+  explicit PartialDir(fs::path path) : path_(std::move(path)) {
+    fs::remove_all(path_);
+    for (const char* sub : {"rgb", "depth", "masks"}) fs::create_directories(path_ / sub);
+  }
+  ~PartialDir() {
+    std::error_code ignored;
+    if (!path_.empty()) fs::remove_all(path_, ignored);
+  }
+  PartialDir(const PartialDir&) = delete;
+  PartialDir& operator=(const PartialDir&) = delete;
+  const fs::path& path() const { return path_; }
+  /// Renames the folder to `final_dir` (replacing it) and keeps it.
+  void commit(const fs::path& final_dir) {
+    fs::remove_all(final_dir);
+    fs::rename(path_, final_dir);
+    path_.clear();
+  }
+
+ private:
+  fs::path path_;
+};
+
+/// scene.xyz: one "x y z" line per static surface sample (world frame, z up, metres).
+void writeSceneSamples(const std::string& path, const sim::Simulator& simulator, double spacing) {
+  char line[96];
+  std::snprintf(line, sizeof line, "# static surface samples every %.3f m, world frame (z up): x y z\n", spacing);
+  std::string text = line;
+  for (const auto& p : simulator.staticSurfaceSamples(spacing)) {
+    std::snprintf(line, sizeof line, "%.4f %.4f %.4f\n", p.x(), p.y(), p.z());
+    text += line;
+  }
+  datasets::writeTextAtomic(path, text);
+}
+
+double secondsSince(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
 }  // namespace
 
 void SimApp::initialize(const std::vector<std::string>& args) {
@@ -65,19 +106,21 @@ int SimApp::run() {
   if (fs::exists(out_) && !(fs::exists(fs::path(out_) / "sequence.rawlog") || fs::is_empty(out_)))
     throw AppError(out_ + ": exists and is not a gmc-sim output; choose another --out");
   const fs::path final_dir(out_);
-  const fs::path tmp = final_dir.parent_path() /
-                       ("." + final_dir.filename().string() + ".partial" + std::to_string(::getpid()));
-  fs::remove_all(tmp);
-  for (const char* sub : {"rgb", "depth", "masks"}) fs::create_directories(tmp / sub);
+  PartialDir partial(final_dir.parent_path() /
+                     ("." + final_dir.filename().string() + ".partial" + std::to_string(::getpid())));
+  const fs::path& tmp = partial.path();
 
   const sim::Simulator simulator(options);
   datasets::RawlogWriter rawlog((tmp / "sequence.rawlog").string());
   std::vector<datasets::TumListEntry> rgb_list, depth_list;
   std::vector<datasets::StampedPose> gt;
   const auto t0 = std::chrono::steady_clock::now();
+  double render_seconds = 0;
   const bool tty = isatty(fileno(stderr));
   for (int i = 0; i < simulator.frameCount(); ++i) {
+    const auto t_render = std::chrono::steady_clock::now();
     const sim::SimFrame f = simulator.renderFrame(i);
+    render_seconds += secondsSince(t_render);
     char stamp[32];
     std::snprintf(stamp, sizeof stamp, "%.6f", f.frame.stamp);
     const std::string name = std::string(stamp) + ".png";
@@ -90,8 +133,7 @@ int SimApp::run() {
     rawlog.write(f.frame);
     if (i == preview_) datasets::writeImageAtomic((tmp / "preview.png").string(), sim::sideBySide(f));
     if (tty) {
-      const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const double fps = (i + 1) / el;
+      const double fps = (i + 1) / secondsSince(t0);
       std::fprintf(stderr, "\rgmc-sim: frame %d/%d  %.1f fps  ETA %.0f s   ", i + 1,
                    simulator.frameCount(), fps, (simulator.frameCount() - i - 1) / fps);
     }
@@ -101,20 +143,12 @@ int SimApp::run() {
   datasets::writeTumList((tmp / "rgb.txt").string(), rgb_list, "color images (gmc-sim)");
   datasets::writeTumList((tmp / "depth.txt").string(), depth_list, "depth images (gmc-sim), value/5000 = m");
   datasets::writeTumTrajectory((tmp / "groundtruth.txt").string(), gt);
-  {
-    std::string text = "# static surface samples every 0.02 m, world frame (z up): x y z\n";
-    char line[96];
-    for (const auto& p : simulator.staticSurfaceSamples(0.02)) {
-      std::snprintf(line, sizeof line, "%.4f %.4f %.4f\n", p.x(), p.y(), p.z());
-      text += line;
-    }
-    datasets::writeTextAtomic((tmp / "scene.xyz").string(), text);
-  }
-  fs::remove_all(final_dir);
-  fs::rename(tmp, final_dir);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("%s: %d frames (%dx%d) in %.1f s\n", out_.c_str(), simulator.frameCount(),
-              options.camera.width, options.camera.height, seconds);
+  writeSceneSamples((tmp / "scene.xyz").string(), simulator, 0.02);
+  partial.commit(final_dir);
+  const double seconds = secondsSince(t0);
+  std::printf("%s: %d frames (%dx%d) in %.1f s (rendering %.1f s, writing %.1f s)\n", out_.c_str(),
+              simulator.frameCount(), options.camera.width, options.camera.height, seconds, render_seconds,
+              seconds - render_seconds);
   return 0;
 }
 
