@@ -42,18 +42,15 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
     : config_(config), frontend_(config.frontend, config.gms), gmc_(config.gmc), gmc_previous_(config.gmc) {}
 
 void RgbdOdometry::labelAgainstPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_cur,
-                                             const PinholeCamera& camera, FrameTracking& out) {
+                                             FrameTracking& out) {
   // A walker near the camera moves more between keyframe and frame than the guided
   // window; one frame apart it is still matchable. Only keypoints the keyframe pass left
   // undecided take these labels, so the pose (already refined) is unaffected.
   const Isometry T_prev_cur = T_world_previous_.inverse() * T_world_cur;
-  auto matches = frontend_.matchGuided(previous_, cur, T_prev_cur.inverse(), camera,
-                                       config_.frontend.match_radius);
-  matches = frontend_.filterGms(previous_, cur, matches);
   std::vector<MotionMatch> motion;
   std::vector<int> cur_index;
-  for (const auto& m : matches) {
-    if (!cur.hasDepth(m.cur)) continue;
+  for (const auto& m : previous_matches_) {
+    if (!cur.hasDepth(m.cur) || !previous_.hasDepth(m.ref)) continue;
     const auto& kp = cur.keypoints[static_cast<size_t>(m.cur)].pt;
     motion.push_back({Eigen::Vector2f(kp.x, kp.y), previous_.points[static_cast<size_t>(m.ref)],
                       cur.points[static_cast<size_t>(m.cur)]});
@@ -64,7 +61,9 @@ void RgbdOdometry::labelAgainstPreviousFrame(const features::FeatureSet& cur, co
   out.times.gmc += msSince(t_gmc);
   for (size_t k = 0; k < motion.size(); ++k) {
     auto& label = out.keypoint_labels[static_cast<size_t>(cur_index[k])];
-    if (label == MotionLabel::Undecided && out.gmc_previous.labels[k] == MotionLabel::Dynamic) {
+    if (out.gmc_previous.labels[k] != MotionLabel::Dynamic) continue;
+    fresh_dynamic_[static_cast<size_t>(cur_index[k])] = 1;
+    if (label == MotionLabel::Undecided) {
       label = MotionLabel::Dynamic;
       ++out.num_dynamic;
     }
@@ -163,10 +162,59 @@ RgbdOdometry::Guess RgbdOdometry::initialGuess(const std::vector<MotionMatch>& m
 
 void RgbdOdometry::makeKeyframe(features::FeatureSet&& features, std::vector<MotionLabel> labels,
                                 const Isometry& T_world_cur, int static_matches) {
-  keyframe_.features = std::move(features);
-  keyframe_.labels = std::move(labels);
-  keyframe_.T_world_kf = T_world_cur;
-  keyframe_.static_matches = static_matches;
+  Keyframe kf;
+  kf.features = std::move(features);
+  kf.labels = std::move(labels);
+  kf.T_world_kf = T_world_cur;
+  kf.static_matches = static_matches;
+  const size_t capacity = static_cast<size_t>(std::max(1, config_.odometry.local_map_keyframes));
+  if (local_map_.size() >= capacity)
+    local_map_.erase(local_map_.begin(), local_map_.begin() + static_cast<long>(local_map_.size() - capacity + 1));
+  local_map_.push_back(std::move(kf));
+}
+
+void RgbdOdometry::trackAgainst(const Keyframe& kf, const features::FeatureSet& cur,
+                                const Isometry& T_world_guess, const PinholeCamera& camera,
+                                bool fallbacks, GmcClassifier& gmc, KeyframeTrack& track,
+                                StageTimes& times) {
+  auto t0 = Clock::now();
+  const Isometry T_kf_guess = kf.T_world_kf.inverse() * T_world_guess;
+  std::vector<features::FeatureMatch> matches = frontend_.matchGuided(
+      kf.features, cur, T_kf_guess.inverse(), camera, config_.frontend.match_radius);
+  if (fallbacks && static_cast<int>(matches.size()) < config_.odometry.min_matches)
+    matches = frontend_.matchGuided(kf.features, cur, T_kf_guess.inverse(), camera,
+                                    config_.odometry.wide_match_radius);
+  if (fallbacks && static_cast<int>(matches.size()) < config_.odometry.min_matches)
+    matches = frontend_.matchExhaustive(kf.features, cur);
+  matches = frontend_.filterGms(kf.features, cur, matches);
+  track.num_matches = static_cast<int>(matches.size());
+
+  // Matches with depth on both sides feed GMC and the initial guess.
+  track.motion.clear();
+  track.cur_index.clear();
+  track.trusted.clear();
+  for (const auto& m : matches) {
+    if (!cur.hasDepth(m.cur)) continue;
+    const auto& kp = cur.keypoints[static_cast<size_t>(m.cur)].pt;
+    track.motion.push_back({Eigen::Vector2f(kp.x, kp.y), kf.features.points[static_cast<size_t>(m.ref)],
+                            cur.points[static_cast<size_t>(m.cur)]});
+    track.cur_index.push_back(m.cur);
+    track.trusted.push_back(kf.labels[static_cast<size_t>(m.ref)] != MotionLabel::Dynamic);
+  }
+  times.frontend += msSince(t0);
+
+  // Initial guess not corrupted by walkers, then GMC's labels against it.
+  t0 = Clock::now();
+  if (fallbacks) {
+    track.guess = initialGuess(track.motion, track.trusted, T_kf_guess);
+  } else {  // older keyframes: the pose refined on the current keyframe is the guess
+    track.guess = Guess{};
+    track.guess.T_kf_cur = T_kf_guess;
+  }
+  times.guess += msSince(t0);
+  t0 = Clock::now();
+  gmc.classify(track.motion, track.guess.T_kf_cur, cur.width, cur.height, track.gmc);
+  times.gmc += msSince(t0);
 }
 
 FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth,
@@ -181,13 +229,15 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth,
   out.keypoints.reserve(cur.size());
   for (const auto& kp : cur.keypoints) out.keypoints.push_back(kp.pt);
   out.keypoint_labels.assign(cur.size(), MotionLabel::Undecided);
+  out.times.frontend = msSince(t_start);
 
   if (!initialized_) {
-    out.times.frontend = msSince(t_start);
     out.state = TrackingState::Initialized;
     out.new_keyframe = true;
     previous_ = cur;
+    previous_memory_.assign(cur.size(), 0);
     T_world_previous_ = Isometry::Identity();
+    local_map_.clear();
     makeKeyframe(std::move(cur), std::vector<MotionLabel>(out.num_features, MotionLabel::Undecided),
                  Isometry::Identity(), 0);
     initialized_ = true;
@@ -197,65 +247,104 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth,
     return out;
   }
 
-  // 1. Guided matching against the keyframe, from the predicted pose.
   const Isometry T_world_pred = predictPose();
-  const Isometry T_kf_pred = keyframe_.T_world_kf.inverse() * T_world_pred;
-  std::vector<features::FeatureMatch> matches = frontend_.matchGuided(
-      keyframe_.features, cur, T_kf_pred.inverse(), camera, config_.frontend.match_radius);
-  if (static_cast<int>(matches.size()) < config_.odometry.min_matches)
-    matches = frontend_.matchGuided(keyframe_.features, cur, T_kf_pred.inverse(), camera,
-                                    config_.odometry.wide_match_radius);
-  if (static_cast<int>(matches.size()) < config_.odometry.min_matches)
-    matches = frontend_.matchExhaustive(keyframe_.features, cur);
-  matches = frontend_.filterGms(keyframe_.features, cur, matches);
-  out.num_matches = static_cast<int>(matches.size());
-
-  // Matches with depth on both sides feed GMC and the initial guess.
-  std::vector<MotionMatch> motion;
-  std::vector<int> motion_to_match;
-  std::vector<std::uint8_t> trusted;
-  motion.reserve(matches.size());
-  for (size_t i = 0; i < matches.size(); ++i) {
-    const auto& m = matches[i];
-    if (!cur.hasDepth(m.cur)) continue;
-    const auto& kp = cur.keypoints[static_cast<size_t>(m.cur)].pt;
-    motion.push_back({Eigen::Vector2f(kp.x, kp.y), keyframe_.features.points[static_cast<size_t>(m.ref)],
-                      cur.points[static_cast<size_t>(m.cur)]});
-    motion_to_match.push_back(static_cast<int>(i));
-    trusted.push_back(keyframe_.labels[static_cast<size_t>(m.ref)] != MotionLabel::Dynamic);
+  // Frame-to-frame matches (guided by the prediction): they carry remembered dynamic
+  // labels forward, so a walker who pauses or walks along the viewing ray stays dynamic
+  // while GMC cannot see its motion over a short keyframe gap.
+  const bool frame_to_frame = config_.gmc.enabled && previous_.size() > 0 &&
+                              (config_.odometry.previous_frame_labels ||
+                               config_.odometry.dynamic_memory_frames > 0);
+  previous_matches_.clear();
+  memory_.assign(cur.size(), 0);
+  fresh_dynamic_.assign(cur.size(), 0);
+  if (frame_to_frame) {
+    const auto t_match = Clock::now();
+    const Isometry T_prev_pred = T_world_previous_.inverse() * T_world_pred;
+    previous_matches_ = frontend_.filterGms(
+        previous_, cur,
+        frontend_.matchGuided(previous_, cur, T_prev_pred.inverse(), camera, config_.frontend.match_radius));
+    for (const auto& m : previous_matches_)
+      if (previous_memory_[static_cast<size_t>(m.ref)] > 0)
+        memory_[static_cast<size_t>(m.cur)] = previous_memory_[static_cast<size_t>(m.ref)] - 1;
+    out.times.frontend += msSince(t_match);
   }
-  out.times.frontend = msSince(t_start);
+  auto remembered = [&](int cur_index) { return memory_[static_cast<size_t>(cur_index)] > 0; };
 
-  // 2. Initial guess not corrupted by walkers.
-  auto t0 = Clock::now();
-  const Guess guess = initialGuess(motion, trusted, T_kf_pred);
-  out.times.guess = msSince(t0);
-
-  // 3. GMC labels.
-  t0 = Clock::now();
-  out.gmc = gmc_.classify(motion, guess.T_kf_cur, gray.cols, gray.rows);
-  out.times.gmc = msSince(t0);
+  // 1-3. The current keyframe: guided matching from the prediction, guess, GMC labels.
+  trackAgainst(keyframe(), cur, T_world_pred, camera, true, gmc_, primary_, out.times);
+  out.num_matches = primary_.num_matches;
+  out.gmc = primary_.gmc;
 
   // 4. Refinement on static matches only (reprojection + depth).
-  t0 = Clock::now();
+  auto t0 = Clock::now();
   std::vector<PointObservation> obs;
-  obs.reserve(motion.size());
-  for (size_t k = 0; k < motion.size(); ++k) {
-    const auto& fm = matches[static_cast<size_t>(motion_to_match[k])];
-    out.keypoint_labels[static_cast<size_t>(fm.cur)] = out.gmc.labels[k];
-    if (out.gmc.labels[k] != MotionLabel::Static) continue;
-    obs.push_back({motion[k].point_ref, motion[k].pixel.cast<double>(), motion[k].point_cur.z()});
+  obs.reserve(primary_.motion.size());
+  out.num_static = primary_.gmc.num_static;
+  out.num_dynamic = primary_.gmc.num_dynamic;
+  for (size_t k = 0; k < primary_.motion.size(); ++k) {
+    MotionLabel& label = out.keypoint_labels[static_cast<size_t>(primary_.cur_index[k])];
+    label = primary_.gmc.labels[k];
+    if (label == MotionLabel::Dynamic) fresh_dynamic_[static_cast<size_t>(primary_.cur_index[k])] = 1;
+    if (label != MotionLabel::Static) continue;
+    // Remembered walkers and keyframe features labelled dynamic stay out of the pose.
+    if (remembered(primary_.cur_index[k]) || !primary_.trusted[k]) {
+      label = MotionLabel::Dynamic;
+      --out.num_static;
+      ++out.num_dynamic;
+      continue;
+    }
+    const auto& m = primary_.motion[k];
+    obs.push_back({m.point_ref, m.pixel.cast<double>(), m.point_cur.z()});
   }
-  out.num_static = out.gmc.num_static;
-  out.num_dynamic = out.gmc.num_dynamic;
-  RefinementResult refined =
-      refinePose(obs, guess.T_kf_cur.inverse(), camera, config_.refinement);
-  out.num_inliers = refined.inliers;
-  out.times.refine = msSince(t0);
+  const Isometry T_world_kf = keyframe().T_world_kf;
+  const RefinementResult refined =
+      refinePose(obs, primary_.guess.T_kf_cur.inverse(), camera, config_.refinement);
+  out.times.refine += msSince(t0);
+  const bool primary_tracked = refined.inliers >= config_.odometry.min_static_inliers;
+  Isometry T_world_cur = primary_tracked ? T_world_kf * refined.T_cur_ref.inverse() : T_world_pred;
+  int inliers = refined.inliers;
 
-  Isometry T_world_cur;
-  if (refined.inliers >= config_.odometry.min_static_inliers) {
-    T_world_cur = keyframe_.T_world_kf * refined.T_cur_ref.inverse();
+  // 4b. Local map: the older keyframes' static matches join the refinement, expressed in
+  // the world frame. They hold static structure seen before walkers covered it and carry
+  // no drift accumulated since, so tracking survives a crowded view and snaps back when
+  // the background reappears.
+  if (local_map_.size() > 1) {
+    for (auto& o : obs) o.point_ref = T_world_kf * o.point_ref;
+    out.local_map_keyframes = primary_tracked ? 1 : 0;
+    for (size_t i = 0; i + 1 < local_map_.size(); ++i) {
+      const Keyframe& kf = local_map_[i];
+      trackAgainst(kf, cur, T_world_cur, camera, false, gmc_previous_, secondary_, out.times);
+      t0 = Clock::now();
+      int added = 0;
+      for (size_t k = 0; k < secondary_.motion.size(); ++k) {
+        auto& label = out.keypoint_labels[static_cast<size_t>(secondary_.cur_index[k])];
+        const MotionLabel l = secondary_.gmc.labels[k];
+        if (l == MotionLabel::Dynamic) fresh_dynamic_[static_cast<size_t>(secondary_.cur_index[k])] = 1;
+        if (label == MotionLabel::Undecided && l == MotionLabel::Dynamic) {
+          label = MotionLabel::Dynamic;
+          ++out.num_dynamic;
+        }
+        if (l != MotionLabel::Static || label == MotionLabel::Dynamic || !secondary_.trusted[k]) continue;
+        const auto& m = secondary_.motion[k];
+        obs.push_back({kf.T_world_kf * m.point_ref, m.pixel.cast<double>(), m.point_cur.z()});
+        ++added;
+      }
+      if (added >= config_.odometry.min_static_inliers) ++out.local_map_keyframes;
+      out.times.refine += msSince(t0);
+    }
+    t0 = Clock::now();
+    const RefinementResult joint = refinePose(obs, T_world_cur.inverse(), camera, config_.refinement);
+    out.times.refine += msSince(t0);
+    if (joint.inliers >= config_.odometry.min_static_inliers) {
+      T_world_cur = joint.T_cur_ref.inverse();
+      inliers = joint.inliers;
+    } else {
+      inliers = std::max(inliers, joint.inliers);
+    }
+  }
+  out.num_inliers = inliers;
+
+  if (inliers >= config_.odometry.min_static_inliers) {
     out.state = TrackingState::Tracking;
     lost_streak_ = 0;
     velocity_ = T_world_last_.inverse() * T_world_cur;
@@ -263,28 +352,33 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth,
     // Lost: keep predicting, re-anchor on a new keyframe when loss persists.
     T_world_cur = T_world_pred;
     out.state = TrackingState::Lost;
-    out.lost_reason = "only " + std::to_string(refined.inliers) + " static inliers (of " +
-                      std::to_string(motion.size()) + " matches with depth)";
+    out.lost_reason = "only " + std::to_string(inliers) + " static inliers (of " +
+                      std::to_string(primary_.motion.size()) + " matches with depth)";
     ++lost_streak_;
+    // The last velocity may be the one that lost tracking: extrapolate it less each frame.
+    const Eigen::AngleAxisd half_turn(0.5 * Eigen::AngleAxisd(velocity_.linear()).angle(),
+                                      Eigen::AngleAxisd(velocity_.linear()).axis());
+    velocity_.linear() = half_turn.toRotationMatrix();
+    velocity_.translation() *= 0.5;
   }
   out.T_world_camera = T_world_cur;
-  if (config_.odometry.previous_frame_labels && config_.gmc.enabled && previous_.size() > 0) {
-    const auto t_prev = Clock::now();
-    const double gmc_before = out.times.gmc;
-    labelAgainstPreviousFrame(cur, T_world_cur, camera, out);
-    out.times.frontend += msSince(t_prev) - (out.times.gmc - gmc_before);  // the matching part
-  }
+  if (frame_to_frame && config_.odometry.previous_frame_labels)
+    labelAgainstPreviousFrame(cur, T_world_cur, out);
+  // Only GMC's own decisions of this frame renew the memory, so remembered labels fade.
+  for (size_t i = 0; i < cur.size(); ++i)
+    if (fresh_dynamic_[i]) memory_[i] = config_.odometry.dynamic_memory_frames;
   previous_ = cur;
+  previous_memory_ = memory_;
   T_world_previous_ = T_world_cur;
 
-  // 5. Keyframe management.
-  const Isometry T_kf_cur = keyframe_.T_world_kf.inverse() * T_world_cur;
+  // 5. Keyframe management (overlap judged against the current keyframe).
+  const Isometry T_kf_cur = keyframe().T_world_kf.inverse() * T_world_cur;
   const bool far = T_kf_cur.translation().norm() > config_.odometry.keyframe_max_translation ||
                    rotationDeg(T_kf_cur) > config_.odometry.keyframe_max_rotation;
   if (out.state == TrackingState::Tracking) {
-    if (keyframe_.static_matches == 0) keyframe_.static_matches = refined.inliers;
+    if (keyframe().static_matches == 0) keyframe().static_matches = refined.inliers;
     const bool weak =
-        refined.inliers < config_.odometry.keyframe_min_overlap * keyframe_.static_matches;
+        refined.inliers < config_.odometry.keyframe_min_overlap * keyframe().static_matches;
     if (far || weak) {
       out.new_keyframe = true;
       makeKeyframe(std::move(cur), out.keypoint_labels, T_world_cur, 0);

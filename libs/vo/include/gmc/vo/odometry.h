@@ -32,6 +32,9 @@ struct OdometryOptions {
                                         ///< are labelled (for masks; not for the pose)
   int reanchor_after_lost = 3;          ///< consecutive lost frames before a new keyframe
                                         ///< is anchored at the predicted pose
+  int local_map_keyframes = 2;          ///< keyframes tracked jointly (1 = the last only)
+  int dynamic_memory_frames = 0;        ///< a keypoint labelled dynamic stays dynamic this
+                                        ///< many frames while it is matched frame to frame
 
   template <class V>
   void visit(V& v) {
@@ -52,6 +55,10 @@ struct OdometryOptions {
       "label keypoints unmatched to the keyframe by GMC against the previous frame");
     v("reanchor_after_lost", reanchor_after_lost, 1, 100000,
       "lost frames before re-anchoring a keyframe at the predicted pose");
+    v("local_map_keyframes", local_map_keyframes, 1, 64,
+      "recent keyframes whose static matches refine the pose jointly");
+    v("dynamic_memory_frames", dynamic_memory_frames, 0, 100000,
+      "frames a dynamic label is remembered along frame-to-frame matches (0 = off)");
   }
 };
 
@@ -82,6 +89,7 @@ struct FrameTracking {
   TrackingState state = TrackingState::Initialized;
   std::string lost_reason;              ///< why the frame is Lost, empty otherwise
   bool new_keyframe = false;
+  int local_map_keyframes = 0;          ///< keyframes that contributed static matches
   int num_features = 0, num_matches = 0, num_static = 0, num_dynamic = 0, num_inliers = 0;
   StageTimes times;
   /// Current keypoints and their labels (Undecided when unmatched), for overlays/masks.
@@ -117,6 +125,21 @@ class RgbdOdometry {
     int support = 0;
   };
 
+  /// Matches of the frame against one keyframe with depth on both sides, the initial
+  /// guess of their relative motion and GMC's labels.
+  struct KeyframeTrack {
+    std::vector<MotionMatch> motion;
+    std::vector<int> cur_index;          ///< keypoint index in the current frame per match
+    std::vector<std::uint8_t> trusted;   ///< keyframe feature not labelled dynamic
+    int num_matches = 0;                 ///< after GMS, with or without depth
+    Guess guess;
+    GmcResult gmc;
+  };
+  /// `fallbacks`: widen the window, then match exhaustively when guided matching finds
+  /// too few (the primary keyframe only).
+  void trackAgainst(const Keyframe& kf, const features::FeatureSet& cur, const Isometry& T_world_guess,
+                    const PinholeCamera& camera, bool fallbacks, GmcClassifier& gmc,
+                    KeyframeTrack& track, StageTimes& times);
   Guess initialGuess(const std::vector<MotionMatch>& matches,
                      const std::vector<std::uint8_t>& trusted, const Isometry& predicted);
   int countSupport(const std::vector<MotionMatch>& matches, const Isometry& T_kf_cur,
@@ -129,11 +152,17 @@ class RgbdOdometry {
   features::Frontend frontend_;
   GmcClassifier gmc_;
   void labelAgainstPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_cur,
-                                 const PinholeCamera& camera, FrameTracking& out);
+                                 FrameTracking& out);
 
-  Keyframe keyframe_;
+  std::vector<Keyframe> local_map_;     ///< oldest first; back() is the current keyframe
+  Keyframe& keyframe() { return local_map_.back(); }
+  KeyframeTrack primary_, secondary_;   ///< reused per frame
   features::FeatureSet previous_;       ///< last frame's features (shared descriptor data)
   Isometry T_world_previous_ = Isometry::Identity();
+  std::vector<features::FeatureMatch> previous_matches_;  ///< previous frame -> this frame
+  std::vector<int> previous_memory_;    ///< frames each previous keypoint stays dynamic
+  std::vector<int> memory_;             ///< the same for the current frame's keypoints
+  std::vector<std::uint8_t> fresh_dynamic_;  ///< labelled dynamic by GMC in this frame
   GmcClassifier gmc_previous_;
   bool initialized_ = false;
   Isometry T_world_last_ = Isometry::Identity();
