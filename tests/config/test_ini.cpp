@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "gmc/config/ini.h"
 #include "gmc/gmc/options.h"
 
@@ -95,6 +97,22 @@ TEST(Ini, MissingFileIsNamed) {
     FAIL();
   } catch (const gmc::cfg::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/x.ini"), std::string::npos);
+  }
+}
+
+// Fuzz finding (fuzz_ini): MRPT's preprocessor threw std::runtime_error ("Line 27:
+// Expected closing `}`") out of loadIniFile, so the apps printed it without the file name.
+TEST(Ini, MalformedMrptDirectiveIsAConfigErrorNamingTheFile) {
+  const std::string path = testing::TempDir() + "/gmc_bad_directive.ini";
+  for (const char* text : {"[GMC]\np_min = $env{HOME\n", "[GMC]\np_min = ${undefined_var\n"}) {
+    { std::ofstream(path) << text; }
+    try {
+      gmc::cfg::loadIniFile(path);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const gmc::cfg::ConfigError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(path + ": ", 0), 0u) << e.what();
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << "one line: " << e.what();
+    }
   }
 }
 

@@ -2,12 +2,17 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <random>
 
+#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
@@ -120,6 +125,192 @@ TEST(Rawlog, MrptSampleLoadsThroughTheSameReader) {
   EXPECT_EQ(f.rgb.type(), CV_8UC3);
   EXPECT_GT(cv::countNonZero(f.depth), 1000);
   EXPECT_GT(f.camera.fx, 100);
+}
+
+/// Writes `n` random frames to `path` with our writer; returns them.
+std::vector<RgbdFrame> writeFrames(const std::string& path, int n, bool externalize = false) {
+  std::vector<RgbdFrame> frames;
+  RawlogWriter w(path, externalize);
+  for (int i = 0; i < n; ++i) {
+    frames.push_back(randomFrame(2000.0 + i / 30.0, static_cast<unsigned>(20 + i)));
+    w.write(frames.back());
+  }
+  w.close();
+  return frames;
+}
+
+std::string messageOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(no exception)";
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+TEST(Rawlog, CutMidObjectIsAnInputErrorNamingFileAndObject) {
+  const auto dir = gmc::testdata::scratchDir("rawlog_cut");
+  const std::string good = dir + "/good.rawlog", cut = dir + "/cut.rawlog";
+  writeFrames(good, 3);
+  // Uncompressed copy, so the cut lands at a known place: in the middle of the third object.
+  std::string bytes;
+  {
+    mrpt::io::CFileGZInputStream in(good);
+    char buf[4096];
+    for (size_t n; (n = in.Read(buf, sizeof buf)) > 0;) bytes.append(buf, n);
+  }
+  std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size() * 5 / 6));
+  auto src = openRgbdSource(cut, {});
+  RgbdFrame f;
+  ASSERT_TRUE(src->next(f));
+  ASSERT_TRUE(src->next(f));
+  try {
+    src->next(f);
+    FAIL() << "truncated rawlog read to the end";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(contains(e.what(), cut + ": object 2: truncated or corrupt rawlog")) << e.what();
+  }
+  // The compressed file cut short: the same error, wherever the cut lands.
+  for (double fraction : {0.1, 0.5, 0.9}) {
+    const auto size = fs::file_size(good);
+    std::string gz(size, '\0');
+    std::ifstream(good, std::ios::binary).read(gz.data(), static_cast<std::streamsize>(size));
+    std::ofstream(cut, std::ios::binary | std::ios::trunc)
+        .write(gz.data(), static_cast<std::streamsize>(static_cast<double>(size) * fraction));
+    const std::string msg = messageOf([&] {
+      auto s = openRgbdSource(cut, {});
+      RgbdFrame g;
+      while (s->next(g)) {
+      }
+    });
+    EXPECT_TRUE(contains(msg, cut + ": object ")) << fraction << ": " << msg;
+    EXPECT_TRUE(contains(msg, "truncated or corrupt")) << fraction << ": " << msg;
+  }
+}
+
+TEST(Rawlog, RawlogWithoutRgbdObservationsIsNamed) {
+  const auto dir = gmc::testdata::scratchDir("rawlog_wrong_class");
+  const std::string path = dir + "/scan2d.rawlog";
+  {
+    mrpt::io::CFileGZOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    mrpt::obs::CObservation2DRangeScan scan;
+    scan.resizeScan(10);
+    mrpt::obs::CObservationOdometry odo;
+    archive << scan << odo << scan;
+  }
+  const std::string msg = messageOf([&] {
+    auto s = openRgbdSource(path, {});
+    RgbdFrame f;
+    s->next(f);
+  });
+  EXPECT_TRUE(contains(msg, path + ": no CObservation3DRangeScan in the rawlog (found "
+                                   "mrpt::obs::CObservation2DRangeScan, mrpt::obs::CObservationOdometry)"))
+      << msg;
+  {
+    mrpt::io::CFileGZOutputStream out(dir + "/empty.rawlog");
+  }
+  EXPECT_TRUE(contains(messageOf([&] {
+                         RgbdFrame f;
+                         openRgbdSource(dir + "/empty.rawlog", {})->next(f);
+                       }),
+                       "empty.rawlog: empty rawlog"));
+  // Garbage that is no MRPT object at all.
+  std::ofstream(dir + "/text.rawlog") << "this is not a rawlog\n";
+  EXPECT_TRUE(contains(messageOf([&] {
+                         RgbdFrame f;
+                         openRgbdSource(dir + "/text.rawlog", {})->next(f);
+                       }),
+                       "text.rawlog: object 0: truncated or corrupt rawlog"));
+}
+
+TEST(Rawlog, MissingExternalImageSkipsThatFrameAndNamesTheFile) {
+  const auto dir = gmc::testdata::scratchDir("rawlog_ext_missing");
+  const auto frames = writeFrames(dir + "/seq.rawlog", 3, true);
+  std::vector<fs::path> images;
+  for (const auto& e : fs::directory_iterator(dir + "/seq_Images")) images.push_back(e.path());
+  std::sort(images.begin(), images.end());
+  ASSERT_EQ(images.size(), 3u);
+  fs::remove(images[1]);
+  auto src = openRgbdSource(dir + "/seq.rawlog", {});
+  RgbdFrame f;
+  ASSERT_TRUE(src->next(f));
+  expectSame(frames[0], f);
+  try {
+    src->next(f);
+    FAIL() << "missing image not reported";
+  } catch (const FrameReadError& e) {
+    EXPECT_TRUE(contains(e.what(), dir + "/seq.rawlog#1: external image ")) << e.what();
+    EXPECT_TRUE(contains(e.what(), images[1].filename().string() + " is missing")) << e.what();
+  }
+  ASSERT_TRUE(src->next(f));
+  expectSame(frames[2], f);
+  EXPECT_FALSE(src->next(f));
+}
+
+// Fuzz finding (fuzz_rawlog): a corrupt JPEG-compressed image inside a rawlog makes MRPT's
+// libjpeg error handler call exit(1) mid-read. The reader cannot catch that; it names the
+// file and object on the way out, and the exit status stays non-zero.
+TEST(RawlogDeathTest, CorruptJpegImageEndsTheProcessNamingFileAndObject) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  const auto dir = gmc::testdata::scratchDir("rawlog_jpeg");
+  const std::string path = dir + "/jpeg.rawlog";
+  {
+    const bool was = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(false);  // as some MRPT grabbers write them
+    mrpt::io::CFileOutputStream out(path);
+    auto archive = mrpt::serialization::archiveFrom(out);
+    auto f = randomFrame(1.0, 5);
+    f.rgb = cv::Mat(240, 320, CV_8UC3, cv::Scalar(40, 90, 200));
+    f.depth = cv::Mat(240, 320, CV_16UC1, cv::Scalar(5000));
+    archive << *toObservation(f);
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(was);
+  }
+  std::string bytes(fs::file_size(path), '\0');
+  std::ifstream(path, std::ios::binary).read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  const auto soi = bytes.find("\xFF\xD8\xFF");
+  ASSERT_NE(soi, std::string::npos) << "image not stored as JPEG";
+  bytes[soi] = bytes[soi + 1] = '\0';  // "Not a JPEG file"
+  std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  EXPECT_EXIT(
+      {
+        auto src = openRgbdSource(path, {});
+        RgbdFrame f;
+        while (src->next(f)) {
+        }
+      },
+      testing::ExitedWithCode(1), "jpeg.rawlog: object 0: corrupt object; MRPT ended the process");
+}
+
+TEST(Rawlog, ObservationsThatAreNoRgbdFrameAreRejectedWithTheReason) {
+  auto obs = [] { return toObservation(randomFrame(1.0, 7)); };
+  auto reason = [](const mrpt::obs::CObservation3DRangeScan& o) {
+    return messageOf([&] { fromObservation(o); });
+  };
+  auto o = obs();
+  o->intensityImage = mrpt::img::CImage(cv::Mat(24, 32, CV_8UC3, cv::Scalar::all(0)), mrpt::img::DEEP_COPY);
+  EXPECT_TRUE(contains(reason(*o), "intensity image is 32x24, range image is 64x48")) << reason(*o);
+  o = obs();
+  o->intensityImage = mrpt::img::CImage(cv::Mat(48, 64, CV_16UC1, cv::Scalar::all(0)), mrpt::img::DEEP_COPY);
+  EXPECT_TRUE(contains(reason(*o), "8-bit grey or colour")) << reason(*o);
+  o = obs();
+  o->cameraParamsIntensity.fx(std::nan(""));
+  EXPECT_TRUE(contains(reason(*o), "intrinsics")) << reason(*o);
+  o = obs();
+  o->rangeUnits = 0;
+  EXPECT_TRUE(contains(reason(*o), "rangeUnits")) << reason(*o);
+  o = obs();
+  o->rangeImage.resize(0, 0);
+  EXPECT_TRUE(contains(reason(*o), "empty range image")) << reason(*o);
+  o = obs();
+  o->range_is_depth = false;
+  EXPECT_TRUE(contains(reason(*o), "range_is_depth")) << reason(*o);
+  o = obs();
+  EXPECT_EQ(reason(*o), "(no exception)");
 }
 
 TEST(Source, TumFolderPairsAndReportsBadFrames) {

@@ -157,7 +157,14 @@ mrpt::config::CConfigFileMemory loadIniFile(const std::string& path) {
   std::stringstream buffer;
   buffer << in.rdbuf();
   if (in.bad()) throw ConfigError(path + ": read error");
-  return mrpt::config::CConfigFileMemory(buffer.str());
+  // MRPT's parser expands @define, ${...}, $env{...} and $eval{...} and throws
+  // std::runtime_error on a malformed one: report it as ours, naming the file.
+  try {
+    return mrpt::config::CConfigFileMemory(buffer.str());
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    throw ConfigError(path + ": " + trim(what.substr(0, what.find('\n'))));
+  }
 }
 
 void applyOverrides(mrpt::config::CConfigFileMemory& file,

@@ -51,32 +51,50 @@ mrpt::obs::CObservation3DRangeScan::Ptr toObservation(const RgbdFrame& frame,
 }
 
 RgbdFrame fromObservation(const mrpt::obs::CObservation3DRangeScan& obs) {
+  // Externally stored image whose file is gone: name the file (MRPT's message does not).
+  if (obs.hasIntensityImage && obs.intensityImage.isExternallyStored()) {
+    const std::string image = obs.intensityImage.getExternalStorageFileAbsolutePath();
+    if (!fs::is_regular_file(image)) throw std::runtime_error("external image " + image + " is missing");
+  }
   obs.load();  // externally stored images
   if (!obs.hasRangeImage) throw std::runtime_error("observation has no range image");
   if (!obs.hasIntensityImage) throw std::runtime_error("observation has no intensity image");
+  if (!obs.range_is_depth)
+    throw std::runtime_error("observation holds ranges, not depth (range_is_depth = false)");
+  if (!(std::isfinite(obs.rangeUnits) && obs.rangeUnits > 0))
+    throw std::runtime_error("rangeUnits " + std::to_string(obs.rangeUnits) + " is not a positive number");
+  const auto& cam = obs.cameraParamsIntensity;
+  if (!(std::isfinite(cam.fx()) && cam.fx() > 0 && std::isfinite(cam.fy()) && cam.fy() > 0 &&
+        std::isfinite(cam.cx()) && std::isfinite(cam.cy())))
+    throw std::runtime_error("no valid intensity camera intrinsics");
+  const auto& ri = obs.rangeImage;
+  const cv::Mat& img = obs.intensityImage.asCvMatRef();
+  if (ri.rows() == 0 || ri.cols() == 0) throw std::runtime_error("empty range image");
+  if (img.rows != static_cast<int>(ri.rows()) || img.cols != static_cast<int>(ri.cols()))
+    throw std::runtime_error("intensity image is " + std::to_string(img.cols) + "x" +
+                             std::to_string(img.rows) + ", range image is " +
+                             std::to_string(ri.cols()) + "x" + std::to_string(ri.rows()) +
+                             " (a registered RGB-D pair has one size)");
+  if (img.depth() != CV_8U || (img.channels() != 1 && img.channels() != 3))
+    throw std::runtime_error("intensity image must be 8-bit grey or colour");
   RgbdFrame f;
   f.stamp = mrpt::Clock::toDouble(obs.timestamp);
   f.depth_units = depthUnitsOf(obs.rangeUnits);
-  const auto& ri = obs.rangeImage;
   f.depth.create(static_cast<int>(ri.rows()), static_cast<int>(ri.cols()), CV_16UC1);
   for (int r = 0; r < f.depth.rows; ++r) {
     auto* row = f.depth.ptr<std::uint16_t>(r);
     for (int c = 0; c < f.depth.cols; ++c) row[c] = ri(r, c);
   }
-  const cv::Mat& img = obs.intensityImage.asCvMatRef();
   if (img.channels() == 1)
     cv::cvtColor(img, f.rgb, cv::COLOR_GRAY2BGR);
   else
     f.rgb = img;  // shared, read-only use
-  const auto& cam = obs.cameraParamsIntensity;
   f.camera.fx = cam.fx();
   f.camera.fy = cam.fy();
   f.camera.cx = cam.cx();
   f.camera.cy = cam.cy();
   f.camera.width = f.depth.cols;
   f.camera.height = f.depth.rows;
-  if (!obs.range_is_depth)
-    throw std::runtime_error("observation holds ranges, not depth (range_is_depth = false)");
   return f;
 }
 

@@ -2,11 +2,15 @@
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/obs/CRawlog.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <mutex>
 
 #include "gmc/datasets/rawlog.h"
 #include "gmc/datasets/tum.h"
@@ -14,6 +18,33 @@
 namespace gmc::datasets {
 namespace fs = std::filesystem;
 namespace {
+
+// MRPT decodes JPEG-compressed images (CImage serialised with JPEG) with libjpeg's default
+// error handler, which calls exit(1) on corrupt data: such an object ends the process from
+// inside MRPT, and no exception reaches us. While an object is being deserialised this
+// names it, so the process still ends with one line naming the file and object. A fixed
+// buffer, not a std::string: it must outlive static destructors.
+char g_reading_object[1024];
+
+void reportExitWhileReading() {
+  if (g_reading_object[0])
+    std::fprintf(stderr,
+                 "error: %s: corrupt object; MRPT ended the process while decoding it "
+                 "(its JPEG decoder exits on bad data)\n",
+                 g_reading_object);
+}
+
+class ReadingObjectGuard {
+ public:
+  ReadingObjectGuard(const std::string& path, size_t object) {
+    static std::once_flag registered;
+    std::call_once(registered, [] { std::atexit(reportExitWhileReading); });
+    std::snprintf(g_reading_object, sizeof g_reading_object, "%s: object %zu", path.c_str(), object);
+  }
+  ~ReadingObjectGuard() { g_reading_object[0] = '\0'; }
+  ReadingObjectGuard(const ReadingObjectGuard&) = delete;
+  ReadingObjectGuard& operator=(const ReadingObjectGuard&) = delete;
+};
 
 class RawlogSource : public RgbdSource {
  public:
@@ -27,39 +58,46 @@ class RawlogSource : public RgbdSource {
   }
 
   bool next(RgbdFrame& frame) override {
+    // One object at a time rather than CRawlog::getActionObservationPairOrObservation():
+    // that one prints and swallows every read error, so a truncated file looked complete.
+    // Both rawlog formats are covered: bare observations, and (actions, sensory frame) pairs.
     auto archive = mrpt::serialization::archiveFrom(in_);
     while (true) {
-      mrpt::obs::CActionCollection::Ptr actions;
-      mrpt::obs::CSensoryFrame::Ptr sf;
-      mrpt::obs::CObservation::Ptr obs;
-      bool more = false;
+      const size_t object = objects_;
+      const uint64_t start = in_.getPosition();
+      mrpt::serialization::CSerializable::Ptr obj;
       try {
-        more = mrpt::obs::CRawlog::getActionObservationPairOrObservation(archive, actions, sf, obs, entry_);
+        const ReadingObjectGuard guard(path_, object);
+        archive >> obj;
+      } catch (const mrpt::serialization::CExceptionEOF& e) {
+        if (in_.getPosition() != start) throw corrupt(object, e);  // cut inside the object
+        return atEnd();
       } catch (const std::exception& e) {
-        // A corrupt object mid-file: the stream position is lost, nothing after it can be
-        // trusted. Report it once, then end the sequence.
-        if (failed_) return false;
-        failed_ = true;
-        throw FrameReadError(path_ + ": entry " + std::to_string(entry_) + ": corrupt object (" +
-                             firstLine(e.what()) + ")");
+        // Truncated or corrupt: the stream position is lost and nothing after it can be
+        // trusted, so the file cannot be read as a whole (std::bad_alloc lands here too,
+        // when a corrupt size field asks MRPT for an absurd buffer).
+        throw corrupt(object, e);
       }
-      if (!more) return false;
-      if (sf) {
-        for (const auto& o : *sf)
-          if (auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o)) {
-            obs = scan;
-            break;
-          }
+      ++objects_;
+      mrpt::obs::CObservation3DRangeScan::Ptr scan;
+      if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)) {
+        for (const auto& o : *sf) {
+          if (!scan) scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o);
+          if (o && !std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o))
+            noteOtherClass(o->GetRuntimeClass()->className);
+        }
+      } else if (!std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj)) {
+        scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(obj);
+        if (!scan && obj) noteOtherClass(obj->GetRuntimeClass()->className);
       }
-      auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(obs);
-      if (!scan) continue;  // other sensors, odometry, ground truth: not ours
+      if (!scan) continue;  // actions, odometry, other sensors: not ours
+      seen_rgbd_ = true;
       try {
         frame = fromObservation(*scan);
       } catch (const std::exception& e) {
-        throw FrameReadError(path_ + ": entry " + std::to_string(entry_) + ": " + firstLine(e.what()));
+        throw FrameReadError(path_ + "#" + std::to_string(object) + ": " + firstLine(e.what()));
       }
-      frame.name = path_ + "#" + std::to_string(entry_);
-      if (frame.camera.fx <= 0) throw FrameReadError(frame.name + ": no intrinsics");
+      frame.name = path_ + "#" + std::to_string(object);
       return true;
     }
   }
@@ -67,10 +105,24 @@ class RawlogSource : public RgbdSource {
 
  private:
   static std::string firstLine(const std::string& s) { return s.substr(0, s.find('\n')); }
+  InputError corrupt(size_t object, const std::exception& e) const {
+    return InputError(path_ + ": object " + std::to_string(object) +
+                      ": truncated or corrupt rawlog (" + firstLine(e.what()) + ")");
+  }
+  bool atEnd() const {
+    if (seen_rgbd_) return false;
+    if (other_classes_.empty()) throw InputError(path_ + ": empty rawlog (no observation)");
+    throw InputError(path_ + ": no CObservation3DRangeScan in the rawlog (found " + other_classes_ + ")");
+  }
+  void noteOtherClass(const std::string& name) {
+    if (other_classes_.find(name) == std::string::npos)
+      other_classes_ += (other_classes_.empty() ? "" : ", ") + name;
+  }
   std::string path_;
   mrpt::io::CFileGZInputStream in_;
-  size_t entry_ = 0;
-  bool failed_ = false;
+  size_t objects_ = 0;  ///< objects read so far (the index in messages)
+  bool seen_rgbd_ = false;
+  std::string other_classes_;  ///< classes of the observations skipped, for the error
 };
 
 class TumFolderSource : public RgbdSource {

@@ -19,7 +19,10 @@ namespace gmc::datasets {
 mrpt::obs::CObservation3DRangeScan::Ptr toObservation(const RgbdFrame& frame,
                                                       const std::string& sensor_label = "RGBD");
 /// Observation -> frame (loads externally stored images). Throws std::runtime_error
-/// when the observation has no range or no intensity image.
+/// naming the problem when the observation is not a usable RGB-D frame: no range or no
+/// intensity image, ranges instead of depth, an external image file that is missing,
+/// intensity and range images of different sizes, an image that is not 8-bit grey or
+/// colour, non-positive rangeUnits or intrinsics.
 RgbdFrame fromObservation(const mrpt::obs::CObservation3DRangeScan& obs);
 
 /// Writes a rawlog to a temporary file; close() renames it into place, and destruction
