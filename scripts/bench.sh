@@ -1,71 +1,238 @@
 #!/usr/bin/env bash
-# Reproduces the README's results tables: simulator suite (GMC on/off, dynamic-match
-# precision/recall, ghost voxels, coverage) and the shared real data (GMC on/off and
-# OpenCV's odometries on the same frames), plus per-stage timing. Writes Markdown to
-# ${GMC_BENCH_DIR:-out/bench}/results.md. Real data from GMC_DATA_DIR (default
-# ../shared/data); skipped with a message when absent.
+# Benchmark harness: runs the sequences x methods of one or more config/bench/*.ini files
+# and writes the paper's tables (ATE, RPE translation, RPE rotation, runtime per stage),
+# the simulator's dynamic-match and map metrics, CSV, and trajectory plots.
+#
+#   ./scripts/bench.sh                       # config/bench/sim.ini + config/bench/shared_data.ini
+#   ./scripts/bench.sh config/bench/tum_bonn_full.ini
+#
+# Output: ${GMC_BENCH_DIR:-out/bench}/results.md (all configs), and per config
+# <name>/results.md, <name>/results.csv, <name>/plots/<sequence>-<method>.png.
+# Methods: gmc (our odometry with GMC), nogmc (the same with [GMC] enabled = false),
+# cv_rgbd / cv_icp / cv_rgbd_icp (OpenCV's cv::rgbd odometries on the same frames).
+# Timing runs are repeated ([Bench] repeats) and reported as the median with the
+# min-max spread; trajectories are deterministic (checked: every repeat must give a
+# byte-identical trajectory). [Bench] start_offsets adds an ATE spread over runs started
+# a few frames later (keyframes fall elsewhere). Timing is only fair on an idle machine.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
+cd "$root"
 "$root/scripts/setup.sh"
 "$root/scripts/build.sh" >/dev/null
 bin="${GMC_BUILD_DIR:-$root/build}/bin"
 out="${GMC_BENCH_DIR:-$root/out/bench}"
-data="${GMC_DATA_DIR:-$root/../shared/data}"
-frames="${GMC_BENCH_FRAMES:-300}"
-mkdir -p "$out"
-md="$out/results.md.tmp"
+export GMC_DATA_DIR="${GMC_DATA_DIR:-$root/../shared/data}"
+export GMC_DATASETS_DIR="${GMC_DATASETS_DIR:-$HOME/datasets}"
+configs=("$@")
+[ ${#configs[@]} -eq 0 ] && configs=(config/bench/sim.ini config/bench/shared_data.ini)
 
-ate() { "$bin/gmc-eval" --gt "$1" --est "$2" | awk '/^ATE/ {print $3}'; }
+# --- INI reading: ini_get FILE SECTION KEY [DEFAULT] (comments after ';' stripped)
+ini_get() {
+  awk -v sec="$2" -v key="$3" '
+    { sub(/;.*/, ""); gsub(/^[ \t]+|[ \t]+$/, "") }
+    /^\[.*\]$/ { cur = substr($0, 2, length($0) - 2); next }
+    cur == sec && index($0, "=") {
+      k = substr($0, 1, index($0, "=") - 1); v = substr($0, index($0, "=") + 1)
+      gsub(/[ \t]+$/, "", k); gsub(/^[ \t]+/, "", v)
+      if (k == key) { print v; found = 1; exit }
+    }
+    END { if (!found) exit 1 }' "$1" || echo "${4-}"
+}
+ini_sections() { awk '{ sub(/;.*/, "") } /^\[.*\]$/ { s = substr($0, 2, length($0) - 2); if (s != "Bench") print s }' "$1"; }
+expand() { local s="$1"; s="${s//\$\{GMC_DATA_DIR\}/$GMC_DATA_DIR}"; echo "${s//\$\{GMC_DATASETS_DIR\}/$GMC_DATASETS_DIR}"; }
+csv_list() { echo "$1" | tr ',' ' '; }
+
+# --- small numeric helpers
 json() { grep -o "\"$2\": [0-9.e+-]*" "$1" | head -1 | awk '{print $2}'; }
-stage() { grep -o "\"$2\": {\"median\": [0-9.e+-]*, \"p95\": [0-9.e+-]*}" "$1" | awk -F'[:,} ]+' '{printf "%.2f (%.2f)", $3, $5}'; }
+stage_median() { grep -o "\"$2\": {\"median\": [0-9.e+-]*" "$1" | awk '{print $NF}'; }
+stage_p95() { grep -o "\"$2\": {\"median\": [0-9.e+-]*, \"p95\": [0-9.e+-]*" "$1" | awk '{print $NF}'; }
+# spread "v1 v2 ...": "median [min-max]" with the given printf format
+spread() {
+  local fmt="$1"; shift
+  printf '%s\n' "$@" | sort -g | awk -v f="$fmt" '{ v[NR] = $1 } END {
+    if (NR == 0) { print "-"; exit }
+    m = (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2
+    if (NR == 1) printf(f "\n", m); else printf(f " [" f "-" f "]\n", m, v[1], v[NR]) }'
+}
+median_of() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { if (NR) print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+# eval_metrics GT EST [PLOT] -> "ate_rmse ate_mae rpe_t_rmse rpe_t_mae rpe_r_rmse rpe_r_mae"
+eval_metrics() {
+  local plot=()
+  [ -n "${3-}" ] && plot=(--plot "$3")
+  "$bin/gmc-eval" --gt "$1" --est "$2" "${plot[@]}" | awk '
+    /^ATE/ { a = $3; am = $8 } /^RPE/ { t = $6; tm = $9; r = $13; rm = $16 }
+    END { printf("%.4f %.4f %.4f %.4f %.3f %.3f\n", a, am, t, tm, r, rm) }'
+}
+method_name() {
+  case "$1" in
+    gmc) echo "GMC odometry" ;; nogmc) echo "without GMC" ;; cv_rgbd) echo "OpenCV RgbdOdometry" ;;
+    cv_icp) echo "OpenCV ICPOdometry" ;; cv_rgbd_icp) echo "OpenCV RgbdICPOdometry" ;; *) echo "$1" ;;
+  esac
+}
 
-{
-  echo "# GMC-RGBD results ($(date -u +%Y-%m-%d), $(nproc) cores)"
-  echo
-  echo "## Simulator ($frames frames each)"
-  echo
-  echo "| sequence | ATE with GMC (m) | ATE without GMC (m) | dyn. precision | dyn. recall | ghost voxels with / without GMC / GMC poses no mask | static coverage with / without GMC | odometry ms median (p95) |"
-  echo "|---|---|---|---|---|---|---|---|"
-} > "$md"
-for s in walkers_xyz walkers_static walkers_halfsphere walkers_rpy; do
-  seq="$out/sim/$s"
-  echo "bench: $s" >&2
-  "$bin/gmc-sim" "$root/config/sim/$s.ini" --out "$seq" --frames "$frames" >/dev/null
-  for variant in on off nomask; do
-    extra=()
-    [ "$variant" = off ] && extra=(--set GMC.enabled=false)
-    [ "$variant" = nomask ] && extra=(--set Mapping.use_dynamic_mask=false)
-    "$bin/gmc-rgbd-mapping" "$root/config/default.ini" "$seq" --out "$out/run/$s-$variant" \
-      --set Dataset.anchor_to_groundtruth=true --set Playback.progress=false "${extra[@]}" >/dev/null 2>&1
-  done
-  on="$out/run/$s-on/summary.json"; off="$out/run/$s-off/summary.json"; nm="$out/run/$s-nomask/summary.json"
-  echo "| $s | $(ate "$seq/groundtruth.txt" "$out/run/$s-on/trajectory_tum.txt") | $(ate "$seq/groundtruth.txt" "$out/run/$s-off/trajectory_tum.txt") | $(json "$on" precision) | $(json "$on" recall) | $(json "$on" ghost_voxels) / $(json "$off" ghost_voxels) / $(json "$nm" ghost_voxels) | $(json "$on" static_coverage) / $(json "$off" static_coverage) | $(stage "$on" odometry) |" >> "$md"
-done
+all_md="$out/results.md.tmp"
+mkdir -p "$out"
+echo "# GMC-RGBD benchmark ($(date -u +%Y-%m-%d), $(nproc) cores, $(uname -m), commit $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo '?'))" > "$all_md"
 
-if [ -d "$data/bonn_crowd_240_389" ] && [ -d "$data/tum_fr3_teddy_1_100" ]; then
-  {
-    echo
-    echo "## Real data (ATE RMSE, m; same frames for every method)"
-    echo
-    echo "| sequence | GMC odometry | without GMC | OpenCV RgbdOdometry | OpenCV ICPOdometry | OpenCV RgbdICPOdometry | GMC odometry ms median (p95) | frontend | GMC | mapping | pipeline fps |"
-    echo "|---|---|---|---|---|---|---|---|---|---|---|"
-  } >> "$md"
-  for pair in "bonn_crowd_240_389 bonn bonn" "tum_fr3_teddy_1_100 tum_fr3 fr3"; do
-    set -- $pair
-    echo "bench: $1" >&2
-    d="$data/$1"
-    "$bin/gmc-rgbd-mapping" "$root/config/$2.ini" "$d" --out "$out/run/$1-on" --set Playback.progress=false >/dev/null 2>&1
-    "$bin/gmc-rgbd-mapping" "$root/config/$2.ini" "$d" --out "$out/run/$1-off" --set GMC.enabled=false --set Playback.progress=false >/dev/null 2>&1
-    row="| $1 | $(ate "$d/groundtruth.txt" "$out/run/$1-on/trajectory_tum.txt") | $(ate "$d/groundtruth.txt" "$out/run/$1-off/trajectory_tum.txt")"
-    for m in rgbd icp rgbd_icp; do
-      "$bin/gmc-baseline-odometry" "$d" --camera "$3" --method $m --out "$out/run/$1-opencv-$m.txt" >/dev/null
-      row="$row | $(ate "$d/groundtruth.txt" "$out/run/$1-opencv-$m.txt")"
+for config in "${configs[@]}"; do
+  [ -f "$config" ] || { echo "bench: $config: no such file" >&2; exit 1; }
+  name="$(basename "$config" .ini)"
+  dir="$out/$name"
+  rm -rf "$dir/run" "$dir/plots"
+  mkdir -p "$dir/run" "$dir/plots" "$dir/data"
+  methods="$(csv_list "$(ini_get "$config" Bench methods "gmc, nogmc")")"
+  repeats="$(ini_get "$config" Bench repeats 1)"
+  offsets="$(csv_list "$(ini_get "$config" Bench start_offsets "")")"
+  csv="$dir/results.csv.tmp"
+  echo "sequence,method,frames,ate_rmse_m,ate_mae_m,rpe_t_rmse_m,rpe_t_mae_m,rpe_r_rmse_deg,rpe_r_mae_deg,ms_per_frame_median,ms_min,ms_max" > "$csv"
+  t1="" t2="" t3="" t4="" t5="" t6="" skipped=""
+  for seq in $(ini_sections "$config"); do
+    gen="$(ini_get "$config" "$seq" generate "")"
+    cfg="$(ini_get "$config" "$seq" config config/default.ini)"
+    cam="$(ini_get "$config" "$seq" camera fr3)"
+    if [ -n "$gen" ]; then
+      path="$dir/data/$seq"
+      echo "bench: $name/$seq: generating" >&2
+      "$bin/gmc-sim" "$gen" --out "$path" --frames "$(ini_get "$config" "$seq" frames 300)" >/dev/null
+    else
+      path="$(expand "$(ini_get "$config" "$seq" path "")")"
+      if [ ! -f "$path/rgb.txt" ] || [ ! -f "$path/groundtruth.txt" ]; then
+        skipped="$skipped\n- $seq: $path not found (TUM layout with groundtruth.txt expected), skipped"
+        echo "bench: $name/$seq: $path not found, skipped" >&2
+        continue
+      fi
+    fi
+    gt="$path/groundtruth.txt"
+    sim_extra=()
+    [ -n "$gen" ] && sim_extra=(--set Dataset.anchor_to_groundtruth=true)
+    row1="| $seq" row2="| $seq" row3="| $seq"
+    for m in $methods; do
+      echo "bench: $name/$seq: $m" >&2
+      times=()
+      traj=""
+      case "$m" in
+        gmc|nogmc)
+          extra=()
+          [ "$m" = nogmc ] && extra=(--set GMC.enabled=false)
+          first_sum=""
+          for r in $(seq 1 "$repeats"); do
+            run="$dir/run/$seq-$m-$r"
+            "$bin/gmc-rgbd-mapping" "$cfg" "$path" --out "$run" --set Playback.progress=false \
+              "${sim_extra[@]}" "${extra[@]}" >"$run.log" 2>&1
+            times+=("$(stage_median "$run/summary.json" total)")
+            sum="$(md5sum < "$run/trajectory_tum.txt")"
+            [ -z "$first_sum" ] && first_sum="$sum"
+            [ "$sum" = "$first_sum" ] || { echo "bench: $seq/$m: repeat $r gave a different trajectory" >&2; exit 1; }
+          done
+          traj="$dir/run/$seq-$m-1/trajectory_tum.txt"
+          frames="$(json "$dir/run/$seq-$m-1/summary.json" frames)"
+          ;;
+        cv_*)
+          for r in $(seq 1 "$repeats"); do
+            t="$dir/run/$seq-$m-$r.txt"
+            ms="$("$bin/gmc-baseline-odometry" "$path" --camera "$cam" --method "${m#cv_}" --out "$t" 2>&1 |
+                  awk '/ms median per frame/ { print $(NF-4) }')"
+            times+=("$ms")
+          done
+          traj="$dir/run/$seq-$m-1.txt"
+          frames="$(grep -vc '^#' "$traj")"
+          ;;
+        *) echo "bench: $config: unknown method '$m'" >&2; exit 1 ;;
+      esac
+      read -r ar am tr tm rr rm <<<"$(eval_metrics "$gt" "$traj" "$dir/plots/$seq-$m.png")"
+      row1="$row1 | $ar / $am" row2="$row2 | $tr / $tm" row3="$row3 | $rr / $rm"
+      read -r tmed tmin tmax <<<"$(printf '%s\n' "${times[@]}" | sort -g | awk '{ v[NR] = $1 } END {
+        m = (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2; print m, v[1], v[NR] }')"
+      echo "$seq,$m,$frames,$ar,$am,$tr,$tm,$rr,$rm,$tmed,$tmin,$tmax" >> "$csv"
+      if [ "$m" = gmc ] || [ "$m" = nogmc ]; then
+        cells=""
+        for st in frontend guess gmc refinement odometry mapping total; do
+          meds=() p95s=()
+          for r in $(seq 1 "$repeats"); do
+            meds+=("$(stage_median "$dir/run/$seq-$m-$r/summary.json" "$st")")
+            p95s+=("$(stage_p95 "$dir/run/$seq-$m-$r/summary.json" "$st")")
+          done
+          cells="$cells | $(spread '%.2f' "${meds[@]}") ($(printf '%.2f' "$(median_of "${p95s[@]}")"))"
+        done
+        fps=()
+        for r in $(seq 1 "$repeats"); do fps+=("$(json "$dir/run/$seq-$m-$r/summary.json" fps)"); done
+        t4="$t4\n| $seq | $(method_name "$m")$cells | $(spread '%.1f' "${fps[@]}") |"
+      else
+        t4="$t4\n| $seq | $(method_name "$m") | | | | | $(spread '%.2f' "${times[@]}") | | | |"
+      fi
     done
-    s="$out/run/$1-on/summary.json"
-    echo "$row | $(stage "$s" odometry) | $(stage "$s" frontend) | $(stage "$s" gmc) | $(stage "$s" mapping) | $(json "$s" fps) |" >> "$md"
+    t1="$t1\n$row1 |" t2="$t2\n$row2 |" t3="$t3\n$row3 |"
+    # Simulated: dynamic-match scores and map metrics (GMC, without GMC, GMC poses without mask).
+    if [ -n "$gen" ]; then
+      nm="$dir/run/$seq-nomask"
+      "$bin/gmc-rgbd-mapping" "$cfg" "$path" --out "$nm" --set Playback.progress=false "${sim_extra[@]}" \
+        --set Mapping.use_dynamic_mask=false >"$nm.log" 2>&1
+      on="$dir/run/$seq-gmc-1/summary.json" off="$dir/run/$seq-nogmc-1/summary.json"
+      [ -f "$off" ] || off="$on"
+      t5="$t5\n| $seq | $(json "$on" precision) | $(json "$on" recall) | $(json "$on" ghost_voxels) / $(json "$off" ghost_voxels) / $(json "$nm/summary.json" ghost_voxels) | $(json "$on" static_coverage) / $(json "$off" static_coverage) |"
+    fi
+    # Start-offset study: the same sequence started k frames later.
+    if [ -n "$offsets" ]; then
+      for m in gmc nogmc; do
+        [[ " $methods " == *" $m "* ]] || continue
+        extra=()
+        [ "$m" = nogmc ] && extra=(--set GMC.enabled=false)
+        ates=()
+        for k in $offsets; do
+          run="$dir/run/$seq-$m-offset$k"
+          "$bin/gmc-rgbd-mapping" "$cfg" "$path" --out "$run" --set Playback.progress=false \
+            --set Output.map=false --set Dataset.first_frame="$k" "${extra[@]}" >"$run.log" 2>&1
+          ates+=("$("$bin/gmc-eval" --gt "$gt" --est "$run/trajectory_tum.txt" | awk '/^ATE/ { print $3 }')")
+        done
+        t6="$t6\n| $seq | $(method_name "$m") | $(printf '%.3f ' "${ates[@]}")| $(spread '%.3f' "${ates[@]}") |"
+      done
+    fi
   done
-else
-  echo -e "\nReal data not found in $data (set GMC_DATA_DIR): real-data rows skipped." >> "$md"
-fi
-mv "$md" "$out/results.md"
+
+  header="| sequence |"; rule="|---|"
+  for m in $methods; do header="$header $(method_name "$m") |"; rule="$rule---|"; done
+  md="$dir/results.md.tmp"
+  {
+    echo "## $name ($config)"
+    echo
+    echo "Command: \`./scripts/bench.sh $config\`; plots in \`$name/plots/\`, CSV in \`$name/results.csv\`."
+    echo
+    echo "### ATE (m): RMSE / MAE (median absolute error)"
+    echo; echo "$header"; echo "$rule"; echo -e "${t1#\\n}"
+    echo
+    echo "### RPE translation over 1 s (m): RMSE / MAE"
+    echo; echo "$header"; echo "$rule"; echo -e "${t2#\\n}"
+    echo
+    echo "### RPE rotation over 1 s (deg): RMSE / MAE"
+    echo; echo "$header"; echo "$rule"; echo -e "${t3#\\n}"
+    echo
+    echo "### Runtime per frame (ms): median over $repeats runs [min-max of the runs' medians] (p95)"
+    echo
+    echo "| sequence | method | frontend | guess | GMC | refinement | tracking (odometry) | mapping | total | frames/s |"
+    echo "|---|---|---|---|---|---|---|---|---|---|"
+    echo -e "${t4#\\n}"
+    if [ -n "$t5" ]; then
+      echo
+      echo "### Simulated sequences: dynamic matches and map"
+      echo
+      echo "| sequence | dyn. precision | dyn. recall | ghost voxels GMC / without GMC / GMC poses without mask | static coverage GMC / without GMC |"
+      echo "|---|---|---|---|---|"
+      echo -e "${t5#\\n}"
+    fi
+    if [ -n "$t6" ]; then
+      echo
+      echo "### ATE (m) over start offsets $(echo $offsets | tr -s ' ' ',') (frames skipped at the start)"
+      echo
+      echo "| sequence | method | per offset | median [min-max] |"
+      echo "|---|---|---|---|"
+      echo -e "${t6#\\n}"
+    fi
+    [ -n "$skipped" ] && echo -e "\nSkipped:$skipped"
+    echo
+  } > "$md"
+  mv "$md" "$dir/results.md"
+  mv "$csv" "$dir/results.csv"
+  { echo; cat "$dir/results.md"; } >> "$all_md"
+done
+mv "$all_md" "$out/results.md"
 cat "$out/results.md"

@@ -2,10 +2,25 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <iomanip>
 #include <sstream>
 
 namespace gmc::apps {
+namespace {
+/// A "VmRSS:" style line of /proc/self/status in MB.
+double procStatusMb(const char* key) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  const std::string prefix = std::string(key) + ":";
+  while (std::getline(in, line))
+    if (line.rfind(prefix, 0) == 0) return std::stod(line.substr(prefix.size())) / 1024.0;  // kB
+  return 0;
+}
+}  // namespace
+
+double residentMemoryMb() { return procStatusMb("VmRSS"); }
+double peakResidentMemoryMb() { return procStatusMb("VmHWM"); }
 
 Percentiles Percentiles::of(std::vector<double> v) {
   Percentiles p;
@@ -59,7 +74,7 @@ std::string PipelineReport::toJson() const {
      << ",\n  \"skipped\": " << skipped << ",\n  \"keyframes\": " << keyframes
      << ",\n  \"map_inserts\": " << map_inserts << ",\n  \"interrupted\": "
      << (interrupted ? "true" : "false") << ",\n  \"wall_seconds\": " << wall_seconds
-     << ",\n  \"fps\": " << (wall_seconds > 0 ? frames / wall_seconds : 0.0)
+     << ",\n  \"peak_rss_mb\": " << peak_rss_mb << ",\n  \"fps\": " << (wall_seconds > 0 ? frames / wall_seconds : 0.0)
      << ",\n  \"static_matches\": " << static_matches << ",\n  \"dynamic_matches\": "
      << dynamic_matches << ",\n";
   os << "  \"ms\": {\n";
@@ -99,7 +114,8 @@ std::string PipelineReport::toText() const {
   line("odometry", odometry_ms);
   line("mapping", map_ms);
   line("total", total_ms);
-  os << "  " << (wall_seconds > 0 ? frames / wall_seconds : 0.0) << " frames/s overall\n";
+  os << "  " << (wall_seconds > 0 ? frames / wall_seconds : 0.0) << " frames/s overall, peak resident memory "
+     << std::fixed << std::setprecision(0) << peak_rss_mb << " MB\n" << std::defaultfloat << std::setprecision(6);
   if (has_map) os << "  map: " << mapping::toText(map) << "\n";
   if (has_map_quality)
     os << "  map vs ground truth: " << map_quality.ghost_voxels << " ghost voxels (of "

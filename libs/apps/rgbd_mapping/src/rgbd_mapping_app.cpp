@@ -199,6 +199,11 @@ int RgbdMappingApp::run() {
   double first_stamp = -1;
   size_t index = 0;
   datasets::RgbdFrame frame;
+  // [Dataset] repeat: later passes reopen the input and shift stamps past the last one.
+  int pass = 0;
+  double stamp_shift = 0, pass_first_stamp = -1, last_stamp = 0, frame_interval = 1.0 / 30.0;
+  std::ostringstream memory_rows;
+  if (output.memory_every > 0) memory_rows << "frame,resident_mb,map_nodes\n";
   while (!stop_requested_) {
     bool have = false;
     try {
@@ -208,7 +213,20 @@ int RgbdMappingApp::run() {
       ++report.skipped;
       continue;
     }
+    if (!have && pass + 1 < dataset.repeat && pass_first_stamp >= 0) {
+      ++pass;
+      stamp_shift += last_stamp - pass_first_stamp + frame_interval;
+      pass_first_stamp = -1;
+      source = datasets::openRgbdSource(input_path_, camera);
+      continue;
+    }
     if (!have) break;
+    if (pass_first_stamp < 0) pass_first_stamp = frame.stamp;
+    else frame_interval = std::max(1e-3, frame.stamp - last_stamp);
+    last_stamp = frame.stamp;
+    const double recorded_stamp = frame.stamp;  // masks and ground truth are looked up by it
+    frame.stamp += stamp_shift;
+    const bool first_pass = pass == 0;
     const size_t this_index = index++;
     if (static_cast<int>(this_index) < dataset.first_frame) continue;
     if (dataset.max_frames > 0 && report.frames >= static_cast<size_t>(dataset.max_frames)) break;
@@ -254,14 +272,16 @@ int RgbdMappingApp::run() {
       datasets::writeImageAtomic((fs::path(out_dir_) / "overlays" / name.str()).string(),
                                  drawOverlay(frame, tracking, ctx.dynamic_mask));
     }
-    if (has_masks) scoreAgainstMask(frame, tracking, report);
-    if (truth_voxels) {
-      const auto gt_pose = datasets::interpolatePose(groundtruth, frame.stamp);
-      if (gt_pose) truth_voxels->addFrame(frame, loadMask(masks_dir_, frame.stamp), *gt_pose);
+    if (first_pass && has_masks) scoreAgainstMask(frame, tracking, report);
+    if (first_pass && truth_voxels) {
+      const auto gt_pose = datasets::interpolatePose(groundtruth, recorded_stamp);
+      if (gt_pose) truth_voxels->addFrame(frame, loadMask(masks_dir_, recorded_stamp), *gt_pose);
     }
     const double pipeline_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     report.addFrame(tracking, map_ms, pipeline_ms);
+    if (output.memory_every > 0 && report.frames % static_cast<size_t>(output.memory_every) == 0)
+      memory_rows << report.frames << "," << residentMemoryMb() << "," << (map ? map->tree().size() : 0) << "\n";
     if (tracking.state == vo::TrackingState::Lost)
       std::cerr << "gmc-rgbd-mapping: frame " << this_index << " (" << frame.name
                 << ") lost: " << tracking.lost_reason << "\n";
@@ -283,6 +303,9 @@ int RgbdMappingApp::run() {
   report.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   report.interrupted = stop_requested_;
+  report.peak_rss_mb = peakResidentMemoryMb();
+  if (output.memory_every > 0)
+    datasets::writeTextAtomic((fs::path(out_dir_) / "memory.csv").string(), memory_rows.str());
 
   // --- outputs, each written to a temporary name and renamed when complete
   datasets::writeTumTrajectory((fs::path(out_dir_) / "trajectory_tum.txt").string(), trajectory);

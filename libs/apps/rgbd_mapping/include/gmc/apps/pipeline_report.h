@@ -16,12 +16,17 @@ struct Percentiles {
   static Percentiles of(std::vector<double> values);
 };
 
+/// Current and peak resident memory of this process in MB (Linux /proc; 0 elsewhere).
+double residentMemoryMb();
+double peakResidentMemoryMb();
+
 struct PipelineReport {
   size_t frames = 0, tracked = 0, lost = 0, reanchored = 0, keyframes = 0;
   size_t dropped = 0;   ///< realtime playback could not keep up
   size_t skipped = 0;   ///< frames that could not be read
   size_t map_inserts = 0;
   double wall_seconds = 0;
+  double peak_rss_mb = 0;  ///< the process's peak resident memory (VmHWM)
   bool interrupted = false;
   bool has_map = false;
   mapping::MapStats map;

@@ -22,6 +22,8 @@ struct DatasetOptions {
   int first_frame = 0;
   std::string groundtruth;     ///< optional TUM file; "auto" = <input>/groundtruth.txt if present
   bool anchor_to_groundtruth = false;  ///< start the trajectory at the ground-truth pose
+  int repeat = 1;              ///< play the input this many times (long-run tests); later
+                               ///< passes get stamps shifted past the previous pass
 
   template <class V>
   void visit(V& v) {
@@ -35,6 +37,7 @@ struct DatasetOptions {
     v("groundtruth", groundtruth, "TUM ground truth file, 'auto', or empty");
     v("anchor_to_groundtruth", anchor_to_groundtruth,
       "start the trajectory at the first ground-truth pose (maps comparable with ground truth)");
+    v("repeat", repeat, 1, 1000000, "play the input this many times (stamps shifted per pass)");
   }
 };
 
@@ -57,12 +60,15 @@ struct OutputOptions {
   bool map = true;                 ///< build and write map.bt
   bool filtered_rawlog = false;    ///< write filtered.rawlog
   int overlay_every = 0;           ///< write overlays/<stamp>.png every N frames (0 = never)
+  int memory_every = 0;            ///< memory.csv row (resident memory, map) every N frames
 
   template <class V>
   void visit(V& v) {
     v("map", map, "build the OctoMap and write map.bt");
     v("filtered_rawlog", filtered_rawlog, "write the filtered observations to filtered.rawlog");
     v("overlay_every", overlay_every, 0, 1000000, "overlay PNG every N frames (0 = none)");
+    v("memory_every", memory_every, 0, 1000000,
+      "memory.csv row (frame, resident MB, map nodes) every N frames (0 = none)");
   }
 };
 
