@@ -25,7 +25,8 @@ cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
 # so one known problem of MRPT's (see doc/robustness.md) does not end the run; the others
 # stop at their first failure. Each reproducer is then run again and sorted: "MRPT" when the failure lies inside MRPT's deserialiser
 # (our reader names the object when MRPT's JPEG decoder calls exit(); corrupt length fields
-# make MRPT allocate gigabytes), "OURS" otherwise. Requests above 2 GB fail as
+# make MRPT allocate gigabytes or write through the null pointer its aligned allocator
+# returns), "OURS" otherwise. Requests above 2 GB fail as
 # std::bad_alloc, as they can outside the sanitizer, and the readers must report that as
 # their documented error; real growth beyond -rss_limit_mb is an OOM.
 export ASAN_OPTIONS="${ASAN_OPTIONS:-allocator_may_return_null=1:max_allocation_size_mb=2048:detect_leaks=1}"
@@ -51,10 +52,11 @@ for t in "${targets[@]}"; do
   for a in "$artifacts"/*; do
     [ -e "$a" ] || continue
     out="$("$build/bin/fuzz_$t" -runs=1 "${limits[@]}" "$a" 2>&1 || true)"
-    # The first frames of the reported stack that are not the sanitizer's or libFuzzer's.
-    top="$(grep -E '^ +#[0-9]+ 0x' <<<"$out" | grep -vE 'sanitizer|fuzzer::|libc\.so|libstdc\+\+|__interceptor|asan_|ubsan|stdlib/|nptl/|signal/|string/|malloc' | head -3)"
+    # Whose code failed: the first stack frame that is either ours (gmc::) or MRPT's
+    # (its libraries, or its header templates instantiated in our binary).
+    owner="$(grep -E '^ +#[0-9]+ 0x' <<<"$out" | grep -oE 'gmc::|libmrpt|include/mrpt' | head -1)"
     if grep -q "MRPT ended the process while decoding" <<<"$out" ||
-       { grep -qE "out-of-memory|timeout|deadly signal" <<<"$out" && grep -q "libmrpt" <<<"$top"; }; then
+       { [ -n "$owner" ] && [ "$owner" != "gmc::" ]; }; then
       mrpt=$((mrpt + 1))
       kind=MRPT
     else

@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <mrpt/io/CFileGZOutputStream.h>
-#include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/serialization/CArchive.h>
 #include <opencv2/imgcodecs.hpp>
@@ -23,6 +22,7 @@
 #include "gmc/sim/simulator.h"
 #include "run_app.h"
 #include "test_data.h"
+#include "wrong_class_rawlog.h"
 
 namespace {
 
@@ -140,18 +140,11 @@ TEST(RgbdMappingBadInput, RawlogCutMidObjectFailsNamingTheFileWithoutOutputs) {
 
 TEST(RgbdMappingBadInput, RawlogOfTheWrongObservationClassIsNamed) {
   const auto root = gmc::testdata::scratchDir("bad_class");
-  const std::string path = root + "/laser.rawlog";
-  {
-    mrpt::io::CFileGZOutputStream out(path);
-    auto archive = mrpt::serialization::archiveFrom(out);
-    mrpt::obs::CObservation2DRangeScan scan;
-    scan.resizeScan(180);
-    for (int i = 0; i < 3; ++i) archive << scan;
-  }
+  const std::string path = gmc::testdata::writeWrongClassRawlog(root + "/laser.rawlog");
   const AppRun r = runMapping(path, root + "/out");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.lines("gmc-rgbd-mapping: error: " + path +
-                    ": no CObservation3DRangeScan in the rawlog (found mrpt::obs::CObservation2DRangeScan)"),
+                    ": no CObservation3DRangeScan in the rawlog (found mrpt::obs::CObservation2DRangeScan, mrpt::obs::CObservationOdometry)"),
             1u)
       << r.err;
   EXPECT_TRUE(noOutputs(root + "/out"));

@@ -12,7 +12,6 @@
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/obs/CActionCollection.h>
-#include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
@@ -22,6 +21,7 @@
 #include "gmc/datasets/source.h"
 #include "gmc/datasets/tum.h"
 #include "test_data.h"
+#include "wrong_class_rawlog.h"
 
 namespace {
 
@@ -194,15 +194,7 @@ TEST(Rawlog, CutMidObjectIsAnInputErrorNamingFileAndObject) {
 
 TEST(Rawlog, RawlogWithoutRgbdObservationsIsNamed) {
   const auto dir = gmc::testdata::scratchDir("rawlog_wrong_class");
-  const std::string path = dir + "/scan2d.rawlog";
-  {
-    mrpt::io::CFileGZOutputStream out(path);
-    auto archive = mrpt::serialization::archiveFrom(out);
-    mrpt::obs::CObservation2DRangeScan scan;
-    scan.resizeScan(10);
-    mrpt::obs::CObservationOdometry odo;
-    archive << scan << odo << scan;
-  }
+  const std::string path = gmc::testdata::writeWrongClassRawlog(dir + "/scan2d.rawlog");
   const std::string msg = messageOf([&] {
     auto s = openRgbdSource(path, {});
     RgbdFrame f;
