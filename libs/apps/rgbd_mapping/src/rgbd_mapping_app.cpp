@@ -35,6 +35,51 @@ void RgbdMappingApp::requestStop() { stop_requested_ = true; }
 
 namespace {
 
+struct MemorySample {
+  double frame, resident_mb, map_nodes;
+};
+
+/// memory.png: resident memory (MB, red, left scale) and map nodes (blue, right scale)
+/// against the frame number, both from zero.
+cv::Mat plotMemory(const std::vector<MemorySample>& samples) {
+  const int W = 800, H = 400, left = 70, right = 80, top = 40, bottom = 50;
+  cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
+  double max_f = 1, max_mb = 1, max_nodes = 1;
+  for (const auto& s : samples) {
+    max_f = std::max(max_f, s.frame);
+    max_mb = std::max(max_mb, s.resident_mb * 1.1);
+    max_nodes = std::max(max_nodes, s.map_nodes * 1.1);
+  }
+  auto px = [&](double f, double v, double vmax) {
+    return cv::Point(left + static_cast<int>((W - left - right) * f / max_f),
+                     H - bottom - static_cast<int>((H - top - bottom) * v / vmax));
+  };
+  cv::rectangle(img, {left, top}, {W - right, H - bottom}, cv::Scalar(0, 0, 0));
+  for (size_t i = 1; i < samples.size(); ++i) {
+    const auto& a = samples[i - 1];
+    const auto& b = samples[i];
+    cv::line(img, px(a.frame, a.resident_mb, max_mb), px(b.frame, b.resident_mb, max_mb), {0, 0, 220}, 2);
+    cv::line(img, px(a.frame, a.map_nodes, max_nodes), px(b.frame, b.map_nodes, max_nodes), {200, 0, 0}, 2);
+  }
+  auto text = [&](const std::string& t, cv::Point p, cv::Scalar c) {
+    cv::putText(img, t, p, cv::FONT_HERSHEY_SIMPLEX, 0.45, c, 1, cv::LINE_AA);
+  };
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "resident memory (MB), max %.0f", max_mb / 1.1);
+  text(buf, {left, 25}, {0, 0, 220});
+  std::snprintf(buf, sizeof buf, "map nodes, max %.0f", max_nodes / 1.1);
+  text(buf, {W - right - 200, 25}, {200, 0, 0});
+  text("0", {left - 15, H - bottom + 5}, {0, 0, 0});
+  std::snprintf(buf, sizeof buf, "%.0f", max_mb);
+  text(buf, {5, top + 5}, {0, 0, 220});
+  std::snprintf(buf, sizeof buf, "%.0f", max_nodes);
+  text(buf, {W - right + 5, top + 5}, {200, 0, 0});
+  std::snprintf(buf, sizeof buf, "frame %.0f", max_f);
+  text(buf, {W - right - 70, H - bottom + 20}, {0, 0, 0});
+  text("frame 0", {left, H - bottom + 20}, {0, 0, 0});
+  return img;
+}
+
 const char* kUsage =
     "usage: gmc-rgbd-mapping <config.ini> <input.rawlog|tum_dir> --out DIR "
     "[--set Section.key=value ...]";
@@ -203,6 +248,7 @@ int RgbdMappingApp::run() {
   int pass = 0;
   double stamp_shift = 0, pass_first_stamp = -1, last_stamp = 0, frame_interval = 1.0 / 30.0;
   std::ostringstream memory_rows;
+  std::vector<MemorySample> memory;
   if (output.memory_every > 0) memory_rows << "frame,resident_mb,map_nodes\n";
   while (!stop_requested_) {
     bool have = false;
@@ -280,8 +326,12 @@ int RgbdMappingApp::run() {
     const double pipeline_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     report.addFrame(tracking, map_ms, pipeline_ms);
-    if (output.memory_every > 0 && report.frames % static_cast<size_t>(output.memory_every) == 0)
-      memory_rows << report.frames << "," << residentMemoryMb() << "," << (map ? map->tree().size() : 0) << "\n";
+    if (output.memory_every > 0 && report.frames % static_cast<size_t>(output.memory_every) == 0) {
+      const MemorySample m{static_cast<double>(report.frames), residentMemoryMb(),
+                           static_cast<double>(map ? map->tree().size() : 0)};
+      memory.push_back(m);
+      memory_rows << report.frames << "," << m.resident_mb << "," << m.map_nodes << "\n";
+    }
     if (tracking.state == vo::TrackingState::Lost)
       std::cerr << "gmc-rgbd-mapping: frame " << this_index << " (" << frame.name
                 << ") lost: " << tracking.lost_reason << "\n";
@@ -304,8 +354,10 @@ int RgbdMappingApp::run() {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   report.interrupted = stop_requested_;
   report.peak_rss_mb = peakResidentMemoryMb();
-  if (output.memory_every > 0)
+  if (output.memory_every > 0) {
     datasets::writeTextAtomic((fs::path(out_dir_) / "memory.csv").string(), memory_rows.str());
+    datasets::writeImageAtomic((fs::path(out_dir_) / "memory.png").string(), plotMemory(memory));
+  }
 
   // --- outputs, each written to a temporary name and renamed when complete
   datasets::writeTumTrajectory((fs::path(out_dir_) / "trajectory_tum.txt").string(), trajectory);
