@@ -26,6 +26,14 @@ bool fitRigid(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst, Isometry
   return true;
 }
 
+/// The GMC input of one feature match: current pixel, reference and current 3-D points.
+MotionMatch motionMatch(const features::FeatureSet& ref, const features::FeatureSet& cur,
+                        const features::FeatureMatch& m) {
+  const auto& kp = cur.keypoints[static_cast<size_t>(m.cur)].pt;
+  return {Eigen::Vector2f(kp.x, kp.y), ref.points[static_cast<size_t>(m.ref)],
+          cur.points[static_cast<size_t>(m.cur)]};
+}
+
 }  // namespace
 
 const char* toString(TrackingState s) {
@@ -51,9 +59,7 @@ void RgbdOdometry::labelAgainstPreviousFrame(const features::FeatureSet& cur, co
   std::vector<int> cur_index;
   for (const auto& m : previous_matches_) {
     if (!cur.hasDepth(m.cur) || !previous_.hasDepth(m.ref)) continue;
-    const auto& kp = cur.keypoints[static_cast<size_t>(m.cur)].pt;
-    motion.push_back({Eigen::Vector2f(kp.x, kp.y), previous_.points[static_cast<size_t>(m.ref)],
-                      cur.points[static_cast<size_t>(m.cur)]});
+    motion.push_back(motionMatch(previous_, cur, m));
     cur_index.push_back(m.cur);
   }
   const auto t_gmc = Clock::now();
@@ -195,9 +201,7 @@ void RgbdOdometry::trackAgainst(const Keyframe& kf, const features::FeatureSet& 
   track.trusted.clear();
   for (const auto& m : matches) {
     if (!cur.hasDepth(m.cur)) continue;
-    const auto& kp = cur.keypoints[static_cast<size_t>(m.cur)].pt;
-    track.motion.push_back({Eigen::Vector2f(kp.x, kp.y), kf.features.points[static_cast<size_t>(m.ref)],
-                            cur.points[static_cast<size_t>(m.cur)]});
+    track.motion.push_back(motionMatch(kf.features, cur, m));
     track.cur_index.push_back(m.cur);
     track.trusted.push_back(kf.labels[static_cast<size_t>(m.ref)] != MotionLabel::Dynamic);
   }
