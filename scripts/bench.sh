@@ -146,7 +146,7 @@ for config in "${configs[@]}"; do
       echo "$seq,$m,$frames,$ar,$am,$tr,$tm,$rr,$rm,$tmed,$tmin,$tmax" >> "$csv"
       if [ "$m" = gmc ] || [ "$m" = nogmc ]; then
         cells=""
-        for st in frontend guess gmc refinement odometry mapping total; do
+        for st in frontend guess gmc refinement odometry dynamic_mask mapping total; do
           meds=() p95s=()
           for r in $(seq 1 "$repeats"); do
             meds+=("$(stage_median "$dir/run/$seq-$m-$r/summary.json" "$st")")
@@ -158,18 +158,33 @@ for config in "${configs[@]}"; do
         for r in $(seq 1 "$repeats"); do fps+=("$(json "$dir/run/$seq-$m-$r/summary.json" fps)"); done
         t4="$t4\n| $seq | $(method_name "$m")$cells | $(spread '%.1f' "${fps[@]}") |"
       else
-        t4="$t4\n| $seq | $(method_name "$m") | | | | | $(spread '%.2f' "${times[@]}") | | | |"
+        t4="$t4\n| $seq | $(method_name "$m") | | | | | $(spread '%.2f' "${times[@]}") | | | | |"
       fi
     done
     t1="$t1\n$row1 |" t2="$t2\n$row2 |" t3="$t3\n$row3 |"
-    # Simulated: dynamic-match scores and map metrics (GMC, without GMC, GMC poses without mask).
+    # Simulated: dynamic-match and mask-pixel scores, map metrics (GMC; without GMC; GMC
+    # poses without mask; GMC with the keypoint-grown mask only, no free-space check).
     if [ -n "$gen" ]; then
-      nm="$dir/run/$seq-nomask"
+      nm="$dir/run/$seq-nomask" kp="$dir/run/$seq-keypointmask"
       "$bin/gmc-rgbd-mapping" "$cfg" "$path" --out "$nm" --set Playback.progress=false "${sim_extra[@]}" \
         --set Mapping.use_dynamic_mask=false >"$nm.log" 2>&1
+      "$bin/gmc-rgbd-mapping" "$cfg" "$path" --out "$kp" --set Playback.progress=false "${sim_extra[@]}" \
+        --set DynamicMask.free_space_check=false >"$kp.log" 2>&1
       on="$dir/run/$seq-gmc-1/summary.json" off="$dir/run/$seq-nogmc-1/summary.json"
       [ -f "$off" ] || off="$on"
-      t5="$t5\n| $seq | $(json "$on" precision) | $(json "$on" recall) | $(json "$on" ghost_voxels) / $(json "$off" ghost_voxels) / $(json "$nm/summary.json" ghost_voxels) | $(json "$on" static_coverage) / $(json "$off" static_coverage) |"
+      pixels="$(grep -o '"dynamic_pixels_vs_masks": {"precision": [0-9.e+-]*, "recall": [0-9.e+-]*' "$on" |
+                awk '{ gsub(/,/, ""); printf("%.3f | %.3f", $4, $6) }')"
+      t5="$t5\n| $seq | $(json "$on" precision) | $(json "$on" recall) | $pixels | $(json "$on" ghost_voxels) / $(json "$off" ghost_voxels) / $(json "$nm/summary.json" ghost_voxels) / $(json "$kp/summary.json" ghost_voxels) | $(json "$on" static_coverage) / $(json "$off" static_coverage) |"
+    fi
+    # Map pictures: top views with and without GMC side by side ([seq] map_picture = PNG
+    # copies it there too, e.g. into doc/images for the README).
+    on_map="$dir/run/$seq-gmc-1/map.bt" off_map="$dir/run/$seq-nogmc-1/map.bt"
+    if [ -f "$on_map" ] && [ -f "$off_map" ]; then
+      top="$dir/plots/$seq-map-top.png"
+      "$bin/gmc-map-export" "$on_map" --top-view "$top" --compare "$off_map" --titles "with GMC,without GMC" \
+        --up "$(ini_get "$config" "$seq" map_up z)" >/dev/null
+      picture="$(ini_get "$config" "$seq" map_picture "")"
+      [ -z "$picture" ] || cp "$top" "$root/$picture"
     fi
     # Start-offset study: the same sequence started k frames later.
     if [ -n "$offsets" ]; then
@@ -208,15 +223,15 @@ for config in "${configs[@]}"; do
     echo
     echo "### Runtime per frame (ms): median over $repeats runs [min-max of the runs' medians] (p95)"
     echo
-    echo "| sequence | method | frontend | guess | GMC | refinement | tracking (odometry) | mapping | total | frames/s |"
-    echo "|---|---|---|---|---|---|---|---|---|---|"
+    echo "| sequence | method | frontend | guess | GMC | refinement | tracking (odometry) | dynamic mask | mapping | total | frames/s |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|"
     echo -e "${t4#\\n}"
     if [ -n "$t5" ]; then
       echo
       echo "### Simulated sequences: dynamic matches and map"
       echo
-      echo "| sequence | dyn. precision | dyn. recall | ghost voxels GMC / without GMC / GMC poses without mask | static coverage GMC / without GMC |"
-      echo "|---|---|---|---|---|"
+      echo "| sequence | dyn. match precision | dyn. match recall | mask pixel precision | mask pixel recall | ghost voxels GMC / without GMC / GMC poses without mask / keypoint mask only | static coverage GMC / without GMC |"
+      echo "|---|---|---|---|---|---|---|"
       echo -e "${t5#\\n}"
     fi
     if [ -n "$t6" ]; then

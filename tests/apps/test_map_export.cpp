@@ -72,6 +72,24 @@ TEST(MapExport, WritesAsciiPly) {
   EXPECT_EQ(rows, 100u);
 }
 
+TEST(MapExport, ComparesTwoMapsSideBySide) {
+  const auto dir = gmc::testdata::scratchDir("map_export_compare");
+  const auto map = makeMap(dir);
+  ASSERT_EQ(runExport({map, "--top-view", dir + "/one.png"}), 0);
+  ASSERT_EQ(runExport({map, "--top-view", dir + "/two.png", "--compare", map, "--titles", "with GMC,without GMC"}),
+            0);
+  const cv::Mat one = cv::imread(dir + "/one.png"), two = cv::imread(dir + "/two.png");
+  ASSERT_FALSE(one.empty());
+  ASSERT_FALSE(two.empty());
+  EXPECT_EQ(two.cols, 2 * one.cols + 10);  // both views and the gap between them
+  EXPECT_GT(two.rows, one.rows);           // and a title line above
+  EXPECT_EQ(runExport({map, "--compare", map}), 2);  // nothing to compare on
+  EXPECT_EQ(runExport({map, "--top-view", dir + "/x.png", "--titles", "a,b"}), 2);
+  EXPECT_EQ(runExport({map, "--top-view", dir + "/x.png", "--compare", map, "--titles", "a"}), 2);
+  EXPECT_EQ(runExport({map, "--top-view", dir + "/x.png", "--compare", dir + "/none.bt"}), 1);
+  EXPECT_FALSE(fs::exists(dir + "/x.png"));
+}
+
 TEST(MapExport, BadInputsFailCleanly) {
   const auto dir = gmc::testdata::scratchDir("map_export_bad");
   EXPECT_EQ(runExport({}), 2);

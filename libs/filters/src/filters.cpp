@@ -2,6 +2,7 @@
 #include <mrpt/obs/TPixelLabelInfo.h>
 #include <opencv2/imgproc.hpp>
 
+#include <chrono>
 #include <functional>
 #include <map>
 #include <sstream>
@@ -96,6 +97,10 @@ void GmcFilter::initialize(const mrpt::config::CConfigFileBase& ini, const std::
   cfg::loadSection(ini, "Refinement", odometry_config_.refinement, source);
   cfg::loadSection(ini, "DynamicMask", mask_options_, source);
   odometry_ = std::make_unique<vo::RgbdOdometry>(odometry_config_);
+  // GMC off is the run without the filter (the paper's baseline): no dynamic evidence at
+  // all, so the free-space check is off too.
+  if (!odometry_config_.gmc.enabled) mask_options_.free_space_check = false;
+  mask_builder_ = std::make_unique<vo::DynamicMaskBuilder>(mask_options_);
 }
 
 bool GmcFilter::filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& context) {
@@ -111,8 +116,11 @@ bool GmcFilter::filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& c
     gray = frame.rgb;
   context.tracking =
       odometry_->process(gray, frame.depth, frame.depth_units, frame.camera, frame.stamp);
+  const auto mask_start = std::chrono::steady_clock::now();
   context.dynamic_mask =
-      vo::buildDynamicMask(*context.tracking, frame.depth, frame.depth_units, mask_options_);
+      mask_builder_->build(*context.tracking, frame.depth, frame.depth_units, frame.camera);
+  context.tracking->times.mask =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - mask_start).count();
 
   const cv::Mat& mask = context.dynamic_mask;
   if (options_.write_pixel_labels) {

@@ -172,6 +172,22 @@ cv::Mat topView(const octomap::OcTree& tree, const HeightBand& band, UpAxis up, 
   return img;
 }
 
+cv::Mat besideWithTitles(const std::vector<cv::Mat>& pictures, const std::vector<std::string>& titles) {
+  const int gap = 10, title_height = 28;
+  int width = 0, height = 0;
+  for (const auto& p : pictures) width += p.cols + gap, height = std::max(height, p.rows);
+  cv::Mat out(height + title_height, std::max(1, width - gap), CV_8UC3, cv::Scalar(255, 255, 255));
+  int x = 0;
+  for (size_t i = 0; i < pictures.size(); ++i) {
+    pictures[i].copyTo(out(cv::Rect(x, title_height, pictures[i].cols, pictures[i].rows)));
+    if (i < titles.size())
+      cv::putText(out, titles[i], {x + 4, title_height - 8}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 1,
+                  cv::LINE_AA);
+    x += pictures[i].cols + gap;
+  }
+  return out;
+}
+
 void writeScene(const octomap::OcTree& tree, const std::string& path, UpAxis up) {
   auto cloud = mrpt::opengl::CPointCloudColoured::Create();
   Bounds b;

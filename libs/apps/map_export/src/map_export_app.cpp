@@ -11,16 +11,25 @@ namespace gmc::apps {
 namespace {
 const char* kUsage =
     "usage: gmc-map-export <map.bt> [--ply OUT.ply] [--grid OUT.png] [--grid-yaml OUT.yaml] "
-    "[--height-band zmin,zmax] [--scene OUT.3Dscene] [--top-view OUT.png] [--up z|-y] [--ply-format binary|ascii]";
+    "[--height-band zmin,zmax] [--scene OUT.3Dscene] [--top-view OUT.png] [--up z|-y] [--ply-format binary|ascii] "
+    "[--compare OTHER.bt [--titles \"A,B\"]]";
+
+std::unique_ptr<octomap::OcTree> readMap(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) throw AppError(path + ": no such map file");
+  std::unique_ptr<octomap::OcTree> tree(new octomap::OcTree(0.05));
+  if (!tree->readBinary(path)) throw AppError(path + ": not a readable OctoMap .bt file");
+  return tree;
+}
 }
 
 void MapExportApp::initialize(const std::vector<std::string>& args) {
-  std::string band;
+  std::string band, titles;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     std::string* target = a == "--ply" ? &ply_ : a == "--grid" ? &grid_ : a == "--grid-yaml" ? &grid_yaml_
                         : a == "--scene" ? &scene_ : a == "--top-view" ? &top_view_ : a == "--up" ? &up_
-                        : a == "--height-band" ? &band : a == "--ply-format" ? &ply_format_ : nullptr;
+                        : a == "--height-band" ? &band : a == "--ply-format" ? &ply_format_
+                        : a == "--compare" ? &compare_ : a == "--titles" ? &titles : nullptr;
     if (target) {
       if (i + 1 >= args.size()) throw AppError(a + " needs a value\n" + kUsage, 2);
       *target = args[++i];
@@ -38,6 +47,14 @@ void MapExportApp::initialize(const std::vector<std::string>& args) {
   if (!grid_yaml_.empty() && grid_.empty()) throw AppError("--grid-yaml needs --grid", 2);
   if (up_ != "z" && up_ != "-y") throw AppError("--up: expected z or -y", 2);
   if (ply_format_ != "binary" && ply_format_ != "ascii") throw AppError("--ply-format: expected binary or ascii", 2);
+  if (!compare_.empty() && top_view_.empty()) throw AppError("--compare needs --top-view", 2);
+  if (!titles.empty()) {
+    if (compare_.empty()) throw AppError("--titles needs --compare", 2);
+    const auto comma = titles.find(',');
+    if (comma == std::string::npos || titles.find(',', comma + 1) != std::string::npos)
+      throw AppError("--titles: expected two titles separated by one comma", 2);
+    titles_ = {titles.substr(0, comma), titles.substr(comma + 1)};
+  }
   if (!band.empty()) {
     char comma = 0;
     int used = 0;
@@ -48,9 +65,8 @@ void MapExportApp::initialize(const std::vector<std::string>& args) {
 }
 
 int MapExportApp::run() {
-  if (!std::filesystem::is_regular_file(map_)) throw AppError(map_ + ": no such map file");
-  std::unique_ptr<octomap::OcTree> tree(new octomap::OcTree(0.05));
-  if (!tree->readBinary(map_)) throw AppError(map_ + ": not a readable OctoMap .bt file");
+  const auto tree = readMap(map_);
+  const auto other = compare_.empty() ? nullptr : readMap(compare_);
   const auto up = up_ == "z" ? mapping::UpAxis::Z : mapping::UpAxis::MinusY;
   const mapping::HeightBand band{zmin_, zmax_};
   if (!ply_.empty()) {
@@ -62,7 +78,15 @@ int MapExportApp::run() {
     mapping::writeGrid(grid, grid_, grid_yaml_.empty() ? std::nullopt : std::optional<std::string>(grid_yaml_));
     std::printf("%s: %dx%d cells of %.3f m\n", grid_.c_str(), grid.image.cols, grid.image.rows, grid.resolution);
   }
-  if (!top_view_.empty()) datasets::writeImageAtomic(top_view_, mapping::topView(*tree, band, up));
+  if (!top_view_.empty() && other) {
+    const std::vector<std::string> titles =
+        titles_.empty() ? std::vector<std::string>{map_, compare_} : titles_;
+    datasets::writeImageAtomic(top_view_, mapping::besideWithTitles({mapping::topView(*tree, band, up),
+                                                                     mapping::topView(*other, band, up)},
+                                                                    titles));
+  } else if (!top_view_.empty()) {
+    datasets::writeImageAtomic(top_view_, mapping::topView(*tree, band, up));
+  }
   if (!scene_.empty()) {
     mapping::writeScene(*tree, scene_, up);
     std::printf("%s: MRPT scene\n", scene_.c_str());

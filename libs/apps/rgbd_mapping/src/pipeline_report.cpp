@@ -50,6 +50,7 @@ void PipelineReport::addFrame(const vo::FrameTracking& t, double map_insert_ms, 
   gmc_ms.push_back(t.times.gmc);
   refine_ms.push_back(t.times.refine);
   odometry_ms.push_back(t.times.total);
+  mask_ms.push_back(t.times.mask);
   if (map_insert_ms > 0) {
     map_ms.push_back(map_insert_ms);
     ++map_inserts;
@@ -83,6 +84,7 @@ std::string PipelineReport::toJson() const {
   stage(os, "gmc", gmc_ms);
   stage(os, "refinement", refine_ms);
   stage(os, "odometry", odometry_ms);
+  stage(os, "dynamic_mask", mask_ms);
   stage(os, "mapping", map_ms);
   stage(os, "total", total_ms, true);
   os << "  }";
@@ -91,7 +93,10 @@ std::string PipelineReport::toJson() const {
   if (has_mask_score)
     os << ",\n  \"dynamic_matches_vs_masks\": {\"precision\": " << mask_score.precision()
        << ", \"recall\": " << mask_score.recall() << ", \"tp\": " << mask_score.tp
-       << ", \"fp\": " << mask_score.fp << ", \"fn\": " << mask_score.fn << "}";
+       << ", \"fp\": " << mask_score.fp << ", \"fn\": " << mask_score.fn << "}"
+       << ",\n  \"dynamic_pixels_vs_masks\": {\"precision\": " << pixel_mask_score.precision()
+       << ", \"recall\": " << pixel_mask_score.recall() << ", \"tp\": " << pixel_mask_score.tp
+       << ", \"fp\": " << pixel_mask_score.fp << ", \"fn\": " << pixel_mask_score.fn << "}";
   os << "\n}\n";
   return os.str();
 }
@@ -112,6 +117,7 @@ std::string PipelineReport::toText() const {
   line("gmc", gmc_ms);
   line("refinement", refine_ms);
   line("odometry", odometry_ms);
+  line("mask", mask_ms);
   line("mapping", map_ms);
   line("total", total_ms);
   os << "  " << (wall_seconds > 0 ? frames / wall_seconds : 0.0) << " frames/s overall, peak resident memory "
@@ -123,7 +129,9 @@ std::string PipelineReport::toText() const {
        << map_quality.static_coverage() << "\n";
   if (has_mask_score)
     os << "  dynamic matches vs ground-truth masks: precision " << mask_score.precision()
-       << "  recall " << mask_score.recall() << "\n";
+       << "  recall " << mask_score.recall() << "\n"
+       << "  dynamic mask pixels vs ground-truth masks: precision " << pixel_mask_score.precision()
+       << "  recall " << pixel_mask_score.recall() << "\n";
   return os.str();
 }
 

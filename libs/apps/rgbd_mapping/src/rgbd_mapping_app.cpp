@@ -87,8 +87,10 @@ const char* kUsage =
 void onSignal(int) { RgbdMappingApp::requestStop(); }
 
 /// Draws keypoints coloured by label and the dynamic GMC cells over the image.
+/// `truth_mask` (simulated input, may be empty): outlined in cyan, so what the dynamic
+/// mask misses is visible.
 cv::Mat drawOverlay(const datasets::RgbdFrame& frame, const vo::FrameTracking& t,
-                    const cv::Mat& mask) {
+                    const cv::Mat& mask, const cv::Mat& truth_mask) {
   // Grey, dimmed background so the coloured labels stand out on any texture.
   cv::Mat img;
   if (frame.rgb.channels() == 3) cv::cvtColor(frame.rgb, img, cv::COLOR_BGR2GRAY);
@@ -100,6 +102,11 @@ cv::Mat drawOverlay(const datasets::RgbdFrame& frame, const vo::FrameTracking& t
     cv::Mat blended;
     cv::addWeighted(img, 0.6, red, 0.4, 0, blended);
     blended.copyTo(img, mask);
+  }
+  if (!truth_mask.empty()) {
+    std::vector<std::vector<cv::Point>> outlines;
+    cv::findContours(truth_mask > 0, outlines, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+    cv::drawContours(img, outlines, -1, cv::Scalar(255, 255, 0), 2);
   }
   for (const auto& cell : t.gmc.cells) {
     if (cell.cluster < 0 || t.gmc.clusters[static_cast<size_t>(cell.cluster)].is_static) continue;
@@ -159,7 +166,8 @@ PipelineConfig loadPipelineConfig(const mrpt::config::CConfigFileBase& ini, cons
 }
 
 void RgbdMappingApp::scoreAgainstMask(const datasets::RgbdFrame& frame,
-                                      const vo::FrameTracking& tracking, PipelineReport& report) const {
+                                      const vo::FrameTracking& tracking, const cv::Mat& dynamic_mask,
+                                      double max_range, PipelineReport& report) const {
   const cv::Mat mask = loadMask(masks_dir_, frame.stamp);
   if (mask.empty()) throw AppError(masks_dir_ + ": no mask for frame " + frame.name);
   for (size_t i = 0; i < tracking.keypoints.size(); ++i) {
@@ -168,6 +176,17 @@ void RgbdMappingApp::scoreAgainstMask(const datasets::RgbdFrame& frame,
     const auto label = tracking.keypoint_labels[i];
     if (label == MotionLabel::Undecided) continue;  // unmatched, or no decision
     report.mask_score.add(label == MotionLabel::Dynamic, on_person);
+  }
+  // Pixels the map could insert: depth within its range.
+  const auto max_raw = static_cast<std::uint16_t>(std::min(65535.0, max_range / frame.depth_units));
+  for (int v = 0; v < frame.depth.rows; ++v) {
+    const auto* depth_row = frame.depth.ptr<std::uint16_t>(v);
+    const auto* truth_row = mask.ptr<std::uint8_t>(v);
+    const auto* predicted_row = dynamic_mask.empty() ? nullptr : dynamic_mask.ptr<std::uint8_t>(v);
+    for (int u = 0; u < frame.depth.cols; ++u) {
+      if (depth_row[u] == 0 || depth_row[u] > max_raw) continue;
+      report.pixel_mask_score.add(predicted_row && predicted_row[u] > 0, truth_row[u] > 0);
+    }
   }
 }
 
@@ -316,9 +335,11 @@ int RgbdMappingApp::run() {
       std::ostringstream name;
       name << std::fixed << std::setprecision(6) << frame.stamp << ".png";
       datasets::writeImageAtomic((fs::path(out_dir_) / "overlays" / name.str()).string(),
-                                 drawOverlay(frame, tracking, ctx.dynamic_mask));
+                                 drawOverlay(frame, tracking, ctx.dynamic_mask,
+                                             has_masks ? loadMask(masks_dir_, recorded_stamp) : cv::Mat()));
     }
-    if (first_pass && has_masks) scoreAgainstMask(frame, tracking, report);
+    if (first_pass && has_masks)
+      scoreAgainstMask(frame, tracking, ctx.dynamic_mask, map_options.max_range, report);
     if (first_pass && truth_voxels) {
       const auto gt_pose = datasets::interpolatePose(groundtruth, recorded_stamp);
       if (gt_pose) truth_voxels->addFrame(frame, loadMask(masks_dir_, recorded_stamp), *gt_pose);

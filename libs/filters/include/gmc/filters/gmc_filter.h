@@ -33,6 +33,7 @@ class GmcFilter : public ObservationFilter {
   vo::OdometryConfig odometry_config_;
   vo::DynamicMaskOptions mask_options_;
   std::unique_ptr<vo::RgbdOdometry> odometry_;
+  std::unique_ptr<vo::DynamicMaskBuilder> mask_builder_;
 };
 
 /// INI section [DepthRange]: readings outside [min_depth, max_depth] become "no reading".

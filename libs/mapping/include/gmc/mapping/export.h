@@ -6,6 +6,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace gmc::mapping {
 
@@ -37,6 +38,10 @@ void writeGrid(const OccupancyGrid& grid, const std::string& png_path,
 
 /// Top view coloured by height (highest occupied voxel per cell), for pictures.
 cv::Mat topView(const octomap::OcTree& tree, const HeightBand& band, UpAxis up, int scale = 4);
+
+/// Pictures side by side (CV_8UC3, padded to the tallest) with a title on each, for
+/// comparisons such as a map with and without GMC.
+cv::Mat besideWithTitles(const std::vector<cv::Mat>& pictures, const std::vector<std::string>& titles);
 
 /// MRPT scene (SceneViewer3D) with the occupied voxels as a coloured point cloud.
 void writeScene(const octomap::OcTree& tree, const std::string& path, UpAxis up);

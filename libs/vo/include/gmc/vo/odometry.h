@@ -77,7 +77,8 @@ struct StageTimes {
   double guess = 0;     ///< motion prediction check + RANSAC
   double gmc = 0;       ///< GMC classification
   double refine = 0;    ///< robust refinement on static matches
-  double total = 0;
+  double total = 0;     ///< the odometry: the stages above
+  double mask = 0;      ///< per-pixel dynamic mask (built after the odometry, not in total)
 };
 
 enum class TrackingState { Initialized, Tracking, Lost, Reanchored };

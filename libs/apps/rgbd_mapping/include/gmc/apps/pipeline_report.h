@@ -32,12 +32,15 @@ struct PipelineReport {
   mapping::MapStats map;
   bool has_map_quality = false;
   mapping::MapQuality map_quality;
-  std::vector<double> frontend_ms, guess_ms, gmc_ms, refine_ms, odometry_ms, map_ms, total_ms;
+  std::vector<double> frontend_ms, guess_ms, gmc_ms, refine_ms, odometry_ms, mask_ms, map_ms, total_ms;
   size_t static_matches = 0, dynamic_matches = 0;
   /// Against ground-truth masks (simulated input): matched keypoints with a decision
   /// (Static or Dynamic), Dynamic vs on a person. Undecided keypoints are not counted.
   bool has_mask_score = false;
   datasets::BinaryScore mask_score;
+  /// The per-pixel dynamic mask handed to the map vs the ground-truth masks, over the
+  /// pixels with depth (what the map could insert).
+  datasets::BinaryScore pixel_mask_score;
 
   void addFrame(const vo::FrameTracking& t, double map_insert_ms, double pipeline_ms);
   std::string toJson() const;

@@ -96,7 +96,7 @@ class RgbdMappingApp : public App {
 
  private:
   void scoreAgainstMask(const datasets::RgbdFrame& frame, const vo::FrameTracking& tracking,
-                        PipelineReport& report) const;
+                        const cv::Mat& dynamic_mask, double max_range, PipelineReport& report) const;
 
   std::string config_path_, input_path_, out_dir_, masks_dir_;
   std::vector<std::string> overrides_;
