@@ -38,8 +38,8 @@ void removeSmallGroups(cv::Mat& binary, int min_area) {
 }
 
 /// Keypoint evidence (dynamic keypoints, growth bounded by dynamic GMC cells) and
-/// free-space evidence (`violations`, any resolution, may be empty; growth bounded to
-/// `violation_margin` around it), grown over depth-continuous pixels.
+/// free-space evidence (`violations` at 1/options.free_space_scale, may be empty; growth
+/// bounded to `violation_margin` around it), grown over depth-continuous pixels.
 cv::Mat growMask(const FrameTracking& tracking, const cv::Mat& depth, double depth_units,
                  const DynamicMaskOptions& options, const cv::Mat& violations) {
   cv::Mat mask = cv::Mat::zeros(depth.size(), CV_8UC1);
@@ -84,7 +84,7 @@ cv::Mat growMask(const FrameTracking& tracking, const cv::Mat& depth, double dep
   if (any_violation) {
     // A coarse violation pixel also covers its neighbours at this scale: only those at
     // the violating sample's depth are seeds (not the wall beside a person's edge).
-    const int fs = std::max(1, depth.cols / violations.cols);
+    const int fs = options.free_space_scale;
     const double step = options.depth_step / depth_units;
     for (int y = 0; y < small.height; ++y) {
       const auto* row = small_violations.ptr<std::uint8_t>(y);
@@ -187,6 +187,7 @@ cv::Mat DynamicMaskBuilder::build(const FrameTracking& tracking, const cv::Mat& 
   violations_.release();
   if (options_.free_space_check && tracking.tracked() && !depth.empty()) {
     const cv::Mat small_depth = depthMetres(depth, depth_units, options_.free_space_scale);
+    if (!history_.empty() && history_.back().min_depth.size() != small_depth.size()) history_.clear();
     if (!history_.empty()) violations_ = freeSpaceViolations(small_depth, camera, tracking.T_world_camera);
     // A reference's 3x3 minimum: projections land within a pixel, and a missing reading
     // next to the landing pixel gives no evidence (0).
