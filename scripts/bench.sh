@@ -18,7 +18,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
 "$root/scripts/setup.sh"
-"$root/scripts/build.sh" >/dev/null
+GMC_BUILD_TARGETS="gmc-sim gmc-rgbd-mapping gmc-eval gmc-baseline-odometry gmc-map-export" "$root/scripts/build.sh" >/dev/null
 bin="${GMC_BUILD_DIR:-$root/build}/bin"
 out="${GMC_BENCH_DIR:-$root/out/bench}"
 export GMC_DATA_DIR="${GMC_DATA_DIR:-$root/../shared/data}"
@@ -173,7 +173,7 @@ for config in "${configs[@]}"; do
       on="$dir/run/$seq-gmc-1/summary.json" off="$dir/run/$seq-nogmc-1/summary.json"
       [ -f "$off" ] || off="$on"
       pixels="$(grep -o '"dynamic_pixels_vs_masks": {"precision": [0-9.e+-]*, "recall": [0-9.e+-]*' "$on" |
-                awk '{ gsub(/,/, ""); printf("%.3f | %.3f", $4, $6) }')"
+                awk '{ gsub(/,/, ""); printf("%.3f | %.3f", $3, $5) }')"
       t5="$t5\n| $seq | $(json "$on" precision) | $(json "$on" recall) | $pixels | $(json "$on" ghost_voxels) / $(json "$off" ghost_voxels) / $(json "$nm/summary.json" ghost_voxels) / $(json "$kp/summary.json" ghost_voxels) | $(json "$on" static_coverage) / $(json "$off" static_coverage) |"
     fi
     # Map pictures: top views with and without GMC side by side ([seq] map_picture = PNG

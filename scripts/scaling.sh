@@ -11,7 +11,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
 "$root/scripts/setup.sh"
-"$root/scripts/build.sh" >/dev/null
+GMC_BUILD_TARGETS="gmc-sim gmc-rgbd-mapping" "$root/scripts/build.sh" >/dev/null
 bin="${GMC_BUILD_DIR:-$root/build}/bin"
 out="${GMC_SCALING_DIR:-$root/out/scaling}"
 read -r -a lengths <<< "${GMC_SCALING_FRAMES:-300 3000 10000}"
