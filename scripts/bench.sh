@@ -176,6 +176,16 @@ for config in "${configs[@]}"; do
                 awk '{ gsub(/,/, ""); printf("%.3f | %.3f", $3, $5) }')"
       t5="$t5\n| $seq | $(json "$on" precision) | $(json "$on" recall) | $pixels | $(json "$on" ghost_voxels) / $(json "$off" ghost_voxels) / $(json "$nm/summary.json" ghost_voxels) / $(json "$kp/summary.json" ghost_voxels) | $(json "$on" static_coverage) / $(json "$off" static_coverage) |"
     fi
+    # Overlay picture ([seq] overlay_picture = PNG, overlay_frame = N): keypoints and mask
+    # of frame N, with the ground-truth outline on simulated input.
+    picture="$(ini_get "$config" "$seq" overlay_picture "")"
+    if [ -n "$picture" ]; then
+      n="$(ini_get "$config" "$seq" overlay_frame 40)" ov="$dir/run/$seq-overlay"
+      "$bin/gmc-rgbd-mapping" "$cfg" "$path" --out "$ov" --set Playback.progress=false "${sim_extra[@]}" \
+        --set Output.map=false --set Dataset.max_frames="$((n + 1))" --set Output.overlay_every="$n" >"$ov.log" 2>&1
+      cp "$(ls "$ov"/overlays/*.png | sort | tail -1)" "$dir/plots/$seq-overlay.png"
+      cp "$dir/plots/$seq-overlay.png" "$root/$picture"
+    fi
     # Map pictures: top views with and without GMC side by side ([seq] map_picture = PNG
     # copies it there too, e.g. into doc/images for the README).
     on_map="$dir/run/$seq-gmc-1/map.bt" off_map="$dir/run/$seq-nogmc-1/map.bt"
