@@ -1,5 +1,9 @@
 #include "gmc/apps/pipeline_report.h"
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -21,6 +25,15 @@ double procStatusMb(const char* key) {
 
 double residentMemoryMb() { return procStatusMb("VmRSS"); }
 double peakResidentMemoryMb() { return procStatusMb("VmHWM"); }
+
+double heapInUseMb() {
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+  const struct mallinfo2 info = mallinfo2();
+  return static_cast<double>(info.uordblks + info.hblkhd) / (1024.0 * 1024.0);
+#else
+  return 0;
+#endif
+}
 
 Percentiles Percentiles::of(std::vector<double> v) {
   Percentiles p;

@@ -36,7 +36,7 @@ void RgbdMappingApp::requestStop() { stop_requested_ = true; }
 namespace {
 
 struct MemorySample {
-  double frame, resident_mb, map_nodes;
+  double frame, resident_mb, map_nodes, heap_mb;
 };
 
 /// memory.png: resident memory (MB, red, left scale) and map nodes (blue, right scale)
@@ -60,6 +60,7 @@ cv::Mat plotMemory(const std::vector<MemorySample>& samples) {
     const auto& b = samples[i];
     cv::line(img, px(a.frame, a.resident_mb, max_mb), px(b.frame, b.resident_mb, max_mb), {0, 0, 220}, 2);
     cv::line(img, px(a.frame, a.map_nodes, max_nodes), px(b.frame, b.map_nodes, max_nodes), {200, 0, 0}, 2);
+    cv::line(img, px(a.frame, a.heap_mb, max_mb), px(b.frame, b.heap_mb, max_mb), {0, 150, 255}, 2);
   }
   auto text = [&](const std::string& t, cv::Point p, cv::Scalar c) {
     cv::putText(img, t, p, cv::FONT_HERSHEY_SIMPLEX, 0.45, c, 1, cv::LINE_AA);
@@ -67,6 +68,7 @@ cv::Mat plotMemory(const std::vector<MemorySample>& samples) {
   char buf[96];
   std::snprintf(buf, sizeof buf, "resident memory (MB), max %.0f", max_mb / 1.1);
   text(buf, {left, 25}, {0, 0, 220});
+  text("orange: heap in use (MB)", {left + 260, 25}, {0, 150, 255});
   std::snprintf(buf, sizeof buf, "map nodes, max %.0f", max_nodes / 1.1);
   text(buf, {W - right - 200, 25}, {200, 0, 0});
   text("0", {left - 15, H - bottom + 5}, {0, 0, 0});
@@ -268,7 +270,7 @@ int RgbdMappingApp::run() {
   double stamp_shift = 0, pass_first_stamp = -1, last_stamp = 0, frame_interval = 1.0 / 30.0;
   std::ostringstream memory_rows;
   std::vector<MemorySample> memory;
-  if (output.memory_every > 0) memory_rows << "frame,resident_mb,map_nodes\n";
+  if (output.memory_every > 0) memory_rows << "frame,resident_mb,map_nodes,heap_in_use_mb\n";
   while (!stop_requested_) {
     bool have = false;
     try {
@@ -349,9 +351,9 @@ int RgbdMappingApp::run() {
     report.addFrame(tracking, map_ms, pipeline_ms);
     if (output.memory_every > 0 && report.frames % static_cast<size_t>(output.memory_every) == 0) {
       const MemorySample m{static_cast<double>(report.frames), residentMemoryMb(),
-                           static_cast<double>(map ? map->tree().size() : 0)};
+                           static_cast<double>(map ? map->tree().size() : 0), heapInUseMb()};
       memory.push_back(m);
-      memory_rows << report.frames << "," << m.resident_mb << "," << m.map_nodes << "\n";
+      memory_rows << report.frames << "," << m.resident_mb << "," << m.map_nodes << "," << m.heap_mb << "\n";
     }
     if (tracking.state == vo::TrackingState::Lost)
       std::cerr << "gmc-rgbd-mapping: frame " << this_index << " (" << frame.name

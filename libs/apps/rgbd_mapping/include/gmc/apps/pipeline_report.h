@@ -19,6 +19,9 @@ struct Percentiles {
 /// Current and peak resident memory of this process in MB (Linux /proc; 0 elsewhere).
 double residentMemoryMb();
 double peakResidentMemoryMb();
+/// Bytes the program holds from malloc (glibc's mallinfo2; 0 elsewhere), in MB: resident
+/// memory minus this is the allocator's retained free memory, not a leak.
+double heapInUseMb();
 
 struct PipelineReport {
   size_t frames = 0, tracked = 0, lost = 0, reanchored = 0, keyframes = 0;
