@@ -2,6 +2,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <limits>
 #include <random>
 
 #include "gmc/datasets/evaluation.h"
@@ -95,6 +96,21 @@ TEST(Plot, DrawsBothTrajectoriesAndTheErrorPanel) {
   EXPECT_GT(cv::countNonZero(red(top)), 100);
   EXPECT_GT(cv::countNonZero(dark(top)), 100);
   EXPECT_GT(cv::countNonZero(red(bottom)), 100);  // error over time
+}
+
+// Fuzz finding (fuzz_tum_trajectory): a NaN error or stamps too far apart for their
+// difference made the plot convert NaN to int (undefined behaviour). Now drawn, off-panel.
+TEST(Plot, NonFiniteErrorsAndFarApartStampsAreDrawnWithoutFailing) {
+  const auto gt = circle(10, 4);
+  AteResult ate = computeAte(gt, gt);
+  ASSERT_EQ(ate.errors.size(), 10u);
+  ate.errors[3] = std::numeric_limits<double>::quiet_NaN();
+  ate.error.max = std::numeric_limits<double>::infinity();
+  ate.stamps.front() = -1.7e308;
+  ate.stamps.back() = 1.7e308;
+  const cv::Mat img = plotTrajectory(ate, "t");
+  EXPECT_EQ(img.type(), CV_8UC3);
+  EXPECT_FALSE(img.empty());
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -301,6 +302,14 @@ TEST(Rawlog, ObservationsThatAreNoRgbdFrameAreRejectedWithTheReason) {
   o = obs();
   o->range_is_depth = false;
   EXPECT_TRUE(contains(reason(*o), "range_is_depth")) << reason(*o);
+  // Fuzz finding: MRPT reads a corrupt file's byte straight into a bool member; ours now
+  // reads that byte instead of using a bool that is neither true nor false.
+  o = obs();
+  std::memset(static_cast<void*>(&o->hasRangeImage), 98, 1);
+  EXPECT_EQ(reason(*o), "hasRangeImage holds 98, not a bool (corrupt observation)");
+  o = obs();
+  std::memset(static_cast<void*>(&o->hasIntensityImage), 6, 1);
+  EXPECT_TRUE(contains(reason(*o), "hasIntensityImage holds 6")) << reason(*o);
   o = obs();
   EXPECT_EQ(reason(*o), "(no exception)");
 }

@@ -77,6 +77,11 @@ TEST(TumFiles, MalformedInputNamesFileAndLine) {
             traj + ":2: expected 'timestamp tx ty tz qx qy qz qw'");
   const auto quat = writeFile(dir, "q.txt", "1.0 0 0 0 0 0 0 2\n");
   EXPECT_EQ(errorOf([&] { readTumTrajectory(quat); }), quat + ":1: quaternion is not unit length");
+  // Fuzz finding: a coordinate like -2e260 overflowed the ATE alignment (NaN errors).
+  const auto far = writeFile(dir, "far.txt", "1.0 0 0 0 0 0 0 1\n2.0 -2e260 0 0 0 0 0 1\n");
+  EXPECT_EQ(errorOf([&] { readTumTrajectory(far); }), far + ":2: position beyond 1e9 m");
+  const auto utm = writeFile(dir, "utm.txt", "1.0 500000.5 5400000.25 310 0 0 0 1\n");
+  EXPECT_DOUBLE_EQ(readTumTrajectory(utm).at(0).pose.translation().y(), 5400000.25);
   EXPECT_EQ(errorOf([&] { readTumList(dir + "/missing.txt"); }), dir + "/missing.txt: cannot open");
 }
 

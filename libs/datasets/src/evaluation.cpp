@@ -113,6 +113,9 @@ std::string fmt(const char* f, double v) {
   std::snprintf(buf, sizeof buf, f, v);
   return buf;
 }
+/// A drawing coordinate as int: NaN or a value beyond int (a NaN or infinite error, stamps
+/// far apart) would be undefined behaviour; cv drawing clips anything far off the image.
+int pixel(double v) { return std::isnan(v) ? 0 : static_cast<int>(std::clamp(v, -1e6, 1e6)); }
 }  // namespace
 
 cv::Mat plotTrajectory(const AteResult& ate, const std::string& title) {
@@ -134,8 +137,7 @@ cv::Mat plotTrajectory(const AteResult& ate, const std::string& title) {
   const double off0 = panel.x + (panel.width - ext[a0] * scale) / 2;
   const double off1 = panel.y + panel.height - (panel.height - ext[a1] * scale) / 2;
   auto toPx = [&](const Eigen::Vector3d& p) {
-    return cv::Point(static_cast<int>(off0 + (p[a0] - lo[a0]) * scale),
-                     static_cast<int>(off1 - (p[a1] - lo[a1]) * scale));
+    return cv::Point(pixel(off0 + (p[a0] - lo[a0]) * scale), pixel(off1 - (p[a1] - lo[a1]) * scale));
   };
   cv::rectangle(img, panel, cv::Scalar(200, 200, 200));
   for (size_t k = 1; k < ate.gt_positions.size(); ++k) {
@@ -163,11 +165,11 @@ cv::Mat plotTrajectory(const AteResult& ate, const std::string& title) {
   cv::line(img, {x0, y0}, {x1, y0}, cv::Scalar(0, 0, 0));
   cv::line(img, {x0, y0}, {x0, y0 - h}, cv::Scalar(0, 0, 0));
   auto errPx = [&](size_t i) {
-    return cv::Point(static_cast<int>(x0 + (ate.stamps[i] - t0) / (t1 - t0) * (x1 - x0)),
-                     static_cast<int>(y0 - ate.errors[i] / emax * h));
+    return cv::Point(pixel(x0 + (ate.stamps[i] - t0) / (t1 - t0) * (x1 - x0)),
+                     pixel(y0 - ate.errors[i] / emax * h));
   };
   for (size_t k = 1; k < ate.errors.size(); ++k) cv::line(img, errPx(k - 1), errPx(k), est_colour, 1, cv::LINE_AA);
-  const int rmse_y = static_cast<int>(y0 - ate.error.rmse / emax * h);
+  const int rmse_y = pixel(y0 - ate.error.rmse / emax * h);
   cv::line(img, {x0, rmse_y}, {x1, rmse_y}, cv::Scalar(160, 160, 160), 1, cv::LINE_AA);
   label(img, "position error (m) over time; grey: RMSE", {margin, top_h + 25}, 0.5);
   label(img, fmt("%.3f", emax), {5, y0 - h + 5});

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
@@ -19,6 +20,18 @@ double depthUnitsOf(float range_units) {
   const double n = std::round(1.0 / range_units);
   if (n >= 1 && static_cast<float>(1.0 / n) == range_units) return 1.0 / n;
   return range_units;
+}
+
+/// A bool member as MRPT deserialised it: MRPT reads the file's byte straight into the bool,
+/// so a corrupt file can leave a value other than 0 or 1 there, and reading that as a bool
+/// is undefined behaviour. Read its byte instead; anything but 0 or 1 is a corrupt observation.
+bool flag(const bool& member, const char* name) {
+  static_assert(sizeof(bool) == 1);
+  unsigned char byte = 0;
+  std::memcpy(&byte, &member, 1);
+  if (byte > 1)
+    throw std::runtime_error(std::string(name) + " holds " + std::to_string(byte) + ", not a bool (corrupt observation)");
+  return byte == 1;
 }
 }  // namespace
 
@@ -51,15 +64,18 @@ mrpt::obs::CObservation3DRangeScan::Ptr toObservation(const RgbdFrame& frame,
 }
 
 RgbdFrame fromObservation(const mrpt::obs::CObservation3DRangeScan& obs) {
+  const bool has_range = flag(obs.hasRangeImage, "hasRangeImage");
+  const bool has_intensity = flag(obs.hasIntensityImage, "hasIntensityImage");
+  const bool is_depth = flag(obs.range_is_depth, "range_is_depth");
   // Externally stored image whose file is gone: name the file (MRPT's message does not).
-  if (obs.hasIntensityImage && obs.intensityImage.isExternallyStored()) {
+  if (has_intensity && obs.intensityImage.isExternallyStored()) {
     const std::string image = obs.intensityImage.getExternalStorageFileAbsolutePath();
     if (!fs::is_regular_file(image)) throw std::runtime_error("external image " + image + " is missing");
   }
   obs.load();  // externally stored images
-  if (!obs.hasRangeImage) throw std::runtime_error("observation has no range image");
-  if (!obs.hasIntensityImage) throw std::runtime_error("observation has no intensity image");
-  if (!obs.range_is_depth)
+  if (!has_range) throw std::runtime_error("observation has no range image");
+  if (!has_intensity) throw std::runtime_error("observation has no intensity image");
+  if (!is_depth)
     throw std::runtime_error("observation holds ranges, not depth (range_is_depth = false)");
   if (!(std::isfinite(obs.rangeUnits) && obs.rangeUnits > 0))
     throw std::runtime_error("rangeUnits " + std::to_string(obs.rangeUnits) + " is not a positive number");

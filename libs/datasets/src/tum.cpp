@@ -14,6 +14,8 @@
 namespace gmc::datasets {
 namespace {
 
+constexpr double kMaxTrajectoryCoordinate = 1e9;  ///< m, see readTumTrajectory
+
 /// Splits a line on spaces, tabs and commas.
 std::vector<std::string> fields(const std::string& line) {
   std::vector<std::string> out;
@@ -95,6 +97,11 @@ std::vector<StampedPose> readTumTrajectory(const std::string& path) {
     if (!ok)
       throw InputError(path + ":" + std::to_string(line) +
                        ": expected 'timestamp tx ty tz qx qy qz qw'");
+    // Beyond this the squares in the ATE alignment overflow (NaN errors); Earth-referenced
+    // coordinates (UTM northings, about 1e7 m) stay far below it.
+    for (size_t k = 1; k < 4; ++k)
+      if (std::abs(v[k]) > kMaxTrajectoryCoordinate)
+        throw InputError(path + ":" + std::to_string(line) + ": position beyond 1e9 m");
     Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
     if (std::abs(q.norm() - 1.0) > 1e-2)
       throw InputError(path + ":" + std::to_string(line) + ": quaternion is not unit length");

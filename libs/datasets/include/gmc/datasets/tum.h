@@ -42,6 +42,8 @@ struct StampedPose {
 };
 
 /// Reads a TUM trajectory; separators may be spaces, tabs or commas (as TUM's tools).
+/// Poses are sorted by stamp. InputError naming file and line for a malformed line, a
+/// quaternion that is not unit length or a coordinate beyond 1e9 m.
 std::vector<StampedPose> readTumTrajectory(const std::string& path);
 /// Writes atomically, stamps with 6 decimals, poses with 9 significant digits.
 void writeTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses);
