@@ -167,10 +167,9 @@ PipelineConfig loadPipelineConfig(const mrpt::config::CConfigFileBase& ini, cons
   return c;
 }
 
-void RgbdMappingApp::scoreAgainstMask(const datasets::RgbdFrame& frame,
+void RgbdMappingApp::scoreAgainstMask(const datasets::RgbdFrame& frame, const cv::Mat& mask,
                                       const vo::FrameTracking& tracking, const cv::Mat& dynamic_mask,
                                       double max_range, PipelineReport& report) const {
-  const cv::Mat mask = loadMask(masks_dir_, frame.stamp);
   if (mask.empty()) throw AppError(masks_dir_ + ": no mask for frame " + frame.name);
   for (size_t i = 0; i < tracking.keypoints.size(); ++i) {
     const auto& kp = tracking.keypoints[i];
@@ -333,18 +332,19 @@ int RgbdMappingApp::run() {
         map_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tm).count();
     }
     if (filtered) filtered->write(*obs);
+    // Simulated input: the frame's ground-truth mask, read once for the overlay and scores.
+    const cv::Mat truth_mask = has_masks ? loadMask(masks_dir_, recorded_stamp) : cv::Mat();
     if (output.overlay_every > 0 && report.frames % output.overlay_every == 0) {
       std::ostringstream name;
       name << std::fixed << std::setprecision(6) << frame.stamp << ".png";
       datasets::writeImageAtomic((fs::path(out_dir_) / "overlays" / name.str()).string(),
-                                 drawOverlay(frame, tracking, ctx.dynamic_mask,
-                                             has_masks ? loadMask(masks_dir_, recorded_stamp) : cv::Mat()));
+                                 drawOverlay(frame, tracking, ctx.dynamic_mask, truth_mask));
     }
     if (first_pass && has_masks)
-      scoreAgainstMask(frame, tracking, ctx.dynamic_mask, map_options.max_range, report);
+      scoreAgainstMask(frame, truth_mask, tracking, ctx.dynamic_mask, map_options.max_range, report);
     if (first_pass && truth_voxels) {
       const auto gt_pose = datasets::interpolatePose(groundtruth, recorded_stamp);
-      if (gt_pose) truth_voxels->addFrame(frame, loadMask(masks_dir_, recorded_stamp), *gt_pose);
+      if (gt_pose) truth_voxels->addFrame(frame, truth_mask, *gt_pose);
     }
     const double pipeline_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

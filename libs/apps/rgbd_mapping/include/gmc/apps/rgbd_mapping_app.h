@@ -95,7 +95,7 @@ class RgbdMappingApp : public App {
   const std::string& outputDir() const { return out_dir_; }
 
  private:
-  void scoreAgainstMask(const datasets::RgbdFrame& frame, const vo::FrameTracking& tracking,
+  void scoreAgainstMask(const datasets::RgbdFrame& frame, const cv::Mat& mask, const vo::FrameTracking& tracking,
                         const cv::Mat& dynamic_mask, double max_range, PipelineReport& report) const;
 
   std::string config_path_, input_path_, out_dir_, masks_dir_;
