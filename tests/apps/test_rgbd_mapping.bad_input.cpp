@@ -29,11 +29,13 @@
 #include "gmc/sim/simulator.h"
 #include "run_app.h"
 #include "test_data.h"
+#include "tum_folder.h"
 #include "wrong_class_rawlog.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using gmc::testdata::writeTumFolder;
 using gmc::datasets::RgbdFrame;
 
 /// Small, fast scene: 320x240 (fr3 intrinsics halved), slow xyz motion, nobody walking.
@@ -63,30 +65,6 @@ std::vector<gmc::datasets::StampedPose> groundTruth(const gmc::sim::SimOptions& 
   std::vector<gmc::datasets::StampedPose> poses;
   for (int i = first; i < first + count; ++i) poses.push_back({sim.stamp(i), sim.cameraPose(i)});
   return poses;
-}
-
-std::string stampName(double stamp) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6f", stamp);
-  return buf;
-}
-
-/// TUM layout (rgb/, depth/, rgb.txt, depth.txt); list stamps may be overridden.
-std::string writeTumFolder(const std::string& dir, const std::vector<RgbdFrame>& frames,
-                           std::vector<double> list_stamps = {}) {
-  fs::create_directories(dir + "/rgb");
-  fs::create_directories(dir + "/depth");
-  if (list_stamps.empty())
-    for (const auto& f : frames) list_stamps.push_back(f.stamp);
-  std::ofstream rgb(dir + "/rgb.txt"), depth(dir + "/depth.txt");
-  for (size_t i = 0; i < frames.size(); ++i) {
-    const std::string name = std::to_string(i) + ".png";
-    cv::imwrite(dir + "/rgb/" + name, frames[i].rgb);
-    cv::imwrite(dir + "/depth/" + name, frames[i].depth);
-    rgb << stampName(list_stamps[i]) << " rgb/" << name << "\n";
-    depth << stampName(list_stamps[i]) << " depth/" << name << "\n";
-  }
-  return dir;
 }
 
 std::string writeRawlog(const std::string& path, const std::vector<RgbdFrame>& frames,

@@ -23,11 +23,13 @@
 #include "noise_frames.h"
 #include "run_app.h"
 #include "test_data.h"
+#include "tum_folder.h"
 #include "wrong_class_rawlog.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using gmc::testdata::writeTumFolder;
 using gmc::datasets::RgbdFrame;
 
 struct Outcome {
@@ -54,20 +56,6 @@ Outcome runCaptured(const char* name, std::vector<std::string> args) {
 void expectOnly(const std::string& dir, const std::set<std::string>& keep) {
   for (const auto& e : fs::directory_iterator(dir))
     EXPECT_TRUE(keep.count(e.path().filename().string())) << "left behind: " << e.path();
-}
-
-std::string writeTumFolder(const std::string& dir, const std::vector<RgbdFrame>& frames) {
-  fs::create_directories(dir + "/rgb");
-  fs::create_directories(dir + "/depth");
-  std::ofstream rgb(dir + "/rgb.txt"), depth(dir + "/depth.txt");
-  for (size_t i = 0; i < frames.size(); ++i) {
-    const std::string name = std::to_string(i) + ".png";
-    cv::imwrite(dir + "/rgb/" + name, frames[i].rgb);
-    cv::imwrite(dir + "/depth/" + name, frames[i].depth);
-    rgb << std::fixed << frames[i].stamp << " rgb/" << name << "\n";
-    depth << std::fixed << frames[i].stamp << " depth/" << name << "\n";
-  }
-  return dir;
 }
 
 size_t framesIn(const std::string& rawlog) {
