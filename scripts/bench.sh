@@ -15,11 +15,9 @@
 # byte-identical trajectory). [Bench] start_offsets adds an ATE spread over runs started
 # a few frames later (keyframes fall elsewhere). Timing is only fair on an idle machine.
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-cd "$root"
-"$root/scripts/setup.sh"
-GMC_BUILD_TARGETS="gmc-sim gmc-rgbd-mapping gmc-eval gmc-baseline-odometry gmc-map-export" "$root/scripts/build.sh" >/dev/null
-bin="${GMC_BUILD_DIR:-$root/build}/bin"
+# cd to the repository root, setup.sh, build these apps; sets $root and $bin
+# shellcheck source=lib/prologue.sh
+source "$(dirname "$0")/lib/prologue.sh" gmc-sim gmc-rgbd-mapping gmc-eval gmc-baseline-odometry gmc-map-export
 out="${GMC_BENCH_DIR:-$root/out/bench}"
 export GMC_DATA_DIR="${GMC_DATA_DIR:-$root/../shared/data}"
 export GMC_DATASETS_DIR="${GMC_DATASETS_DIR:-$HOME/datasets}"

@@ -8,11 +8,9 @@
 # GMC_SCALING_FRAMES="300 3000" shortens the length series (the picture then comes
 # from the longest run).
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-cd "$root"
-"$root/scripts/setup.sh"
-GMC_BUILD_TARGETS="gmc-sim gmc-rgbd-mapping" "$root/scripts/build.sh" >/dev/null
-bin="${GMC_BUILD_DIR:-$root/build}/bin"
+# cd to the repository root, setup.sh, build these apps; sets $root and $bin
+# shellcheck source=lib/prologue.sh
+source "$(dirname "$0")/lib/prologue.sh" gmc-sim gmc-rgbd-mapping
 out="${GMC_SCALING_DIR:-$root/out/scaling}"
 read -r -a lengths <<< "${GMC_SCALING_FRAMES:-300 3000 10000}"
 mkdir -p "$out"
