@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 namespace gmc::vo {
 namespace {
@@ -307,6 +308,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth,
   const bool primary_tracked = refined.inliers >= config_.odometry.min_static_inliers;
   Isometry T_world_cur = primary_tracked ? T_world_kf * refined.T_cur_ref.inverse() : T_world_pred;
   int inliers = refined.inliers;
+  out.position_sigma = positionStdDev(refined);
 
   // 4b. Local map: the older keyframes' static matches join the refinement, expressed in
   // the world frame. They hold static structure seen before walkers covered it and carry
@@ -342,13 +344,20 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth,
     if (joint.inliers >= config_.odometry.min_static_inliers) {
       T_world_cur = joint.T_cur_ref.inverse();
       inliers = joint.inliers;
+      out.position_sigma = positionStdDev(joint);
     } else {
       inliers = std::max(inliers, joint.inliers);
     }
   }
   out.num_inliers = inliers;
+  // Enough inliers can still leave the pose undetermined: points on a narrow strip of one
+  // wall under a narrow field of view let translation and rotation trade off, and the
+  // estimate can be decimetres off with every residual small (measured in
+  // doc/robustness.md: a walker covering all but a strip of the view). Lost, not tracked.
+  const double max_sigma = config_.odometry.max_position_sigma;
+  const bool determined = max_sigma <= 0 || out.position_sigma <= max_sigma;
 
-  if (inliers >= config_.odometry.min_static_inliers) {
+  if (inliers >= config_.odometry.min_static_inliers && determined) {
     out.state = TrackingState::Tracking;
     lost_streak_ = 0;
     velocity_ = T_world_last_.inverse() * T_world_cur;
@@ -356,8 +365,17 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth,
     // Lost: keep predicting, re-anchor on a new keyframe when loss persists.
     T_world_cur = T_world_pred;
     out.state = TrackingState::Lost;
-    out.lost_reason = "only " + std::to_string(inliers) + " static inliers (of " +
-                      std::to_string(primary_.motion.size()) + " matches with depth)";
+    if (inliers >= config_.odometry.min_static_inliers) {
+      out.pose_undetermined = true;
+      char reason[160];
+      std::snprintf(reason, sizeof reason,
+                    "pose not determined by its %d static inliers (position standard deviation %.2f m > %.2f)",
+                    inliers, out.position_sigma, max_sigma);
+      out.lost_reason = reason;
+    } else {
+      out.lost_reason = "only " + std::to_string(inliers) + " static inliers (of " +
+                        std::to_string(primary_.motion.size()) + " matches with depth)";
+    }
     ++lost_streak_;
     // The last velocity may be the one that lost tracking: extrapolate it less each frame.
     const Eigen::AngleAxisd half_turn(0.5 * Eigen::AngleAxisd(velocity_.linear()).angle(),

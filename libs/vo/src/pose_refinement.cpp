@@ -1,6 +1,8 @@
 #include "gmc/vo/pose_refinement.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 
 namespace gmc::vo {
@@ -34,6 +36,17 @@ inline double huberWeight(double whitened, double k) {
 }
 
 }  // namespace
+
+double positionStdDev(const RefinementResult& result) {
+  // For a left perturbation (rho, phi) of T_cur_ref the camera centre -R^T t moves by
+  // -R^T rho to first order (the phi terms cancel), so the centre's covariance has the
+  // eigenvalues of the rho block of the inverse information.
+  using Mat6 = Eigen::Matrix<double, 6, 6>;
+  const Mat6 regularized = result.information + 1e-9 * Mat6::Identity();  // none: huge, not NaN
+  const Eigen::Matrix3d position = regularized.inverse().topLeftCorner<3, 3>();
+  const double largest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(position).eigenvalues().maxCoeff();
+  return std::isfinite(largest) ? std::sqrt(std::max(0.0, largest)) : HUGE_VAL;
+}
 
 RefinementResult refinePose(const std::vector<PointObservation>& observations,
                             const Isometry& T_cur_ref_initial, const PinholeCamera& camera,
@@ -85,6 +98,7 @@ RefinementResult refinePose(const std::vector<PointObservation>& observations,
     }
     result.final_cost = cost;
     result.inliers = inliers;
+    result.information = H;
     H.diagonal().array() += 1e-9;  // keeps degenerate directions solvable
     const Vec6 delta = -H.ldlt().solve(g);
     if (!delta.allFinite()) break;

@@ -55,6 +55,7 @@ void PipelineReport::addFrame(const vo::FrameTracking& t, double map_insert_ms, 
   if (t.tracked()) ++tracked;
   if (t.state == vo::TrackingState::Lost) ++lost;
   if (t.state == vo::TrackingState::Reanchored) ++reanchored, ++lost;
+  if (t.pose_undetermined) ++lost_pose_undetermined;
   if (t.new_keyframe) ++keyframes;
   static_matches += static_cast<size_t>(t.num_static);
   dynamic_matches += static_cast<size_t>(t.num_dynamic);
@@ -84,7 +85,8 @@ std::string PipelineReport::toJson() const {
   os << std::setprecision(6);
   os << "{\n";
   os << "  \"frames\": " << frames << ",\n  \"tracked\": " << tracked << ",\n  \"lost\": " << lost
-     << ",\n  \"reanchored\": " << reanchored << ",\n  \"dropped\": " << dropped
+     << ",\n  \"lost_pose_undetermined\": " << lost_pose_undetermined << ",\n  \"reanchored\": " << reanchored
+     << ",\n  \"dropped\": " << dropped
      << ",\n  \"skipped\": " << skipped << ",\n  \"keyframes\": " << keyframes
      << ",\n  \"map_inserts\": " << map_inserts << ",\n  \"interrupted\": "
      << (interrupted ? "true" : "false") << ",\n  \"wall_seconds\": " << wall_seconds

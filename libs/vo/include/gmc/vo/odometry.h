@@ -35,6 +35,9 @@ struct OdometryOptions {
   int local_map_keyframes = 2;          ///< keyframes tracked jointly (1 = the last only)
   int dynamic_memory_frames = 0;        ///< a keypoint labelled dynamic stays dynamic this
                                         ///< many frames while it is matched frame to frame
+  double max_position_sigma = 0.10;     ///< m; a pose whose camera position is less well
+                                        ///< determined than this (standard deviation along
+                                        ///< its weakest direction) is lost (0 = no check)
 
   template <class V>
   void visit(V& v) {
@@ -59,6 +62,8 @@ struct OdometryOptions {
       "recent keyframes whose static matches refine the pose jointly");
     v("dynamic_memory_frames", dynamic_memory_frames, 0, 100000,
       "frames a dynamic label is remembered along frame-to-frame matches (0 = off)");
+    v("max_position_sigma", max_position_sigma, 0.0, 100.0,
+      "m, lost when the position's standard deviation along its weakest direction exceeds this (0 = off)");
   }
 };
 
@@ -89,9 +94,12 @@ struct FrameTracking {
   Isometry T_world_camera = Isometry::Identity();
   TrackingState state = TrackingState::Initialized;
   std::string lost_reason;              ///< why the frame is Lost, empty otherwise
+  bool pose_undetermined = false;       ///< Lost with enough inliers: max_position_sigma
   bool new_keyframe = false;
   int local_map_keyframes = 0;          ///< keyframes that contributed static matches
   int num_features = 0, num_matches = 0, num_static = 0, num_dynamic = 0, num_inliers = 0;
+  double position_sigma = 0;            ///< m, camera position's standard deviation along
+                                        ///< its least constrained direction (refinement)
   StageTimes times;
   /// Current keypoints and their labels (Undecided when unmatched), for overlays/masks.
   std::vector<cv::Point2f> keypoints;

@@ -39,7 +39,16 @@ struct RefinementResult {
   int inliers = 0;            ///< observations with whitened error below the Huber threshold
   double final_cost = 0;
   bool converged = false;
+  /// Information (whitened Gauss-Newton Hessian, Huber-weighted) at the result; its
+  /// inverse is the motion's covariance, twist order (translation, rotation).
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
 };
+
+/// Standard deviation (m) of the current camera's position along its least constrained
+/// direction, from the result's information (infinite-like when there is none). Large
+/// when the points leave translation and rotation free to trade off, e.g. a narrow strip
+/// of one wall under a narrow field of view.
+double positionStdDev(const RefinementResult& result);
 
 /// Refines T_cur_ref (maps reference points into the current camera frame).
 RefinementResult refinePose(const std::vector<PointObservation>& observations,
