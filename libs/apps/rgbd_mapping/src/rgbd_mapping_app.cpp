@@ -332,9 +332,12 @@ int RgbdMappingApp::run() {
         map_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - tm).count();
     }
     if (filtered) filtered->write(*obs);
-    // Simulated input: the frame's ground-truth mask, read once for the overlay and scores.
-    const cv::Mat truth_mask = has_masks ? loadMask(masks_dir_, recorded_stamp) : cv::Mat();
-    if (output.overlay_every > 0 && report.frames % output.overlay_every == 0) {
+    const bool draw_overlay = output.overlay_every > 0 && report.frames % output.overlay_every == 0;
+    // Simulated input: the frame's ground-truth mask, read once for the overlay, the scores
+    // and the map metrics (the last two on the first pass only: later passes read none).
+    const cv::Mat truth_mask =
+        has_masks && (first_pass || draw_overlay) ? loadMask(masks_dir_, recorded_stamp) : cv::Mat();
+    if (draw_overlay) {
       std::ostringstream name;
       name << std::fixed << std::setprecision(6) << frame.stamp << ".png";
       datasets::writeImageAtomic((fs::path(out_dir_) / "overlays" / name.str()).string(),
