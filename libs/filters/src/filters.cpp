@@ -95,6 +95,10 @@ void GmcFilter::initialize(const mrpt::config::CConfigFileBase& ini, const std::
   cfg::loadSection(ini, "GMC", odometry_config_.gmc, source);
   cfg::loadSection(ini, "Odometry", odometry_config_.odometry, source);
   cfg::loadSection(ini, "Refinement", odometry_config_.refinement, source);
+  cfg::loadSection(ini, "LocalMap", odometry_config_.local_map, source);
+  cfg::loadSection(ini, "Background", odometry_config_.background, source);
+  cfg::loadSection(ini, "Keyframes", odometry_config_.keyframes, source);
+  cfg::loadSection(ini, "Window", odometry_config_.window, source);
   cfg::loadSection(ini, "DynamicMask", mask_options_, source);
   odometry_ = std::make_unique<vo::RgbdOdometry>(odometry_config_);
   // GMC off is the run without the filter (the paper's baseline): no dynamic evidence at

@@ -78,7 +78,7 @@ RefinementResult refinePose(const std::vector<PointObservation>& observations,
       const double inv_px = 1.0 / options.pixel_sigma;
       const Eigen::Vector2d r_px = (Eigen::Vector2d(u, v) - ob.pixel) * inv_px;
       const Eigen::Matrix<double, 2, 6> J_px = dproj * dp * inv_px;
-      const double w_px = huberWeight(r_px.norm(), options.huber);
+      const double w_px = ob.weight * huberWeight(r_px.norm(), options.huber);
       H.noalias() += w_px * J_px.transpose() * J_px;
       g.noalias() += w_px * J_px.transpose() * r_px;
       double sq = r_px.squaredNorm();
@@ -87,7 +87,7 @@ RefinementResult refinePose(const std::vector<PointObservation>& observations,
         const double sigma = options.depth_sigma_base + options.depth_sigma_per_m2 * ob.depth * ob.depth;
         const double r_z = (p.z() - ob.depth) / sigma;
         const Eigen::Matrix<double, 1, 6> J_z = dp.row(2) / sigma;
-        const double w_z = huberWeight(r_z, options.huber);
+        const double w_z = ob.weight * huberWeight(r_z, options.huber);
         H.noalias() += w_z * J_z.transpose() * J_z;
         g.noalias() += w_z * J_z.transpose() * r_z;
         sq += r_z * r_z;

@@ -161,7 +161,8 @@ PipelineConfig loadPipelineConfig(const mrpt::config::CConfigFileBase& ini, cons
   cfg::loadSection(ini, "Mapping", c.map, source);
   const auto unknown = cfg::unknownSections(
       ini, {"Dataset", "Playback", "Output", "Mapping", "Filters", "GmcFilter", "Frontend", "GMS",
-            "GMC", "Odometry", "Refinement", "DynamicMask", "DepthRange", "Decimate"});
+            "GMC", "Odometry", "Refinement", "LocalMap", "Background", "Keyframes", "Window", "DynamicMask",
+            "DepthRange", "Decimate"});
   if (!unknown.empty()) throw cfg::ConfigError(source + ": unknown section [" + unknown.front() + "]");
   c.camera = cameraFromOptions(c.dataset);
   return c;

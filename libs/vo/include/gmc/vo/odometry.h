@@ -8,31 +8,23 @@
 
 #include "gmc/features/frontend.h"
 #include "gmc/gmc/gmc.h"
+#include "gmc/vo/background.h"
+#include "gmc/vo/keyframe_policy.h"
+#include "gmc/vo/landmark_map.h"
 #include "gmc/vo/pose_refinement.h"
+#include "gmc/vo/window_optimizer.h"
 
 namespace gmc::vo {
 
 /// INI section [Odometry].
 struct OdometryOptions {
   int min_static_inliers = 20;          ///< fewer static inliers after refinement = lost
-  int min_matches = 30;                 ///< fewer guided matches: retry with a wider window
+  int min_matches = 30;                 ///< fewer map matches: retry with a wider window
   int wide_match_radius = 100;          ///< px, second attempt of guided matching
-  int ransac_iterations = 150;          ///< 3-point 3-D/3-D hypotheses per frame
-  double inlier_base = 0.005;           ///< m, 3-D inlier threshold at 0 m ...
-  double inlier_per_m2 = 0.002;         ///< ... plus this times depth^2 (Kinect noise)
-  double prediction_support = 0.5;      ///< keep the motion prediction while its support is
-                                        ///< at least this fraction of RANSAC's best
   bool use_motion_model = true;         ///< constant-velocity prediction
-  double keyframe_min_overlap = 0.6;    ///< new keyframe when static matches fall below this
-                                        ///< fraction of the keyframe's static matches at creation
-  double keyframe_max_translation = 0.25;  ///< m from the keyframe
-  double keyframe_max_rotation = 15.0;     ///< deg from the keyframe
   bool previous_frame_labels = true;    ///< also run GMC against the previous frame, so
-                                        ///< walkers too fast to match over the keyframe gap
-                                        ///< are labelled (for masks; not for the pose)
-  int reanchor_after_lost = 3;          ///< consecutive lost frames before a new keyframe
-                                        ///< is anchored at the predicted pose
-  int local_map_keyframes = 2;          ///< keyframes tracked jointly (1 = the last only)
+                                        ///< walkers too fast to match to the map are
+                                        ///< labelled (for masks; not for the pose)
   int dynamic_memory_frames = 0;        ///< a keypoint labelled dynamic stays dynamic this
                                         ///< many frames while it is matched frame to frame
   double max_position_sigma = 0.10;     ///< m; a pose whose camera position is less well
@@ -42,24 +34,11 @@ struct OdometryOptions {
   template <class V>
   void visit(V& v) {
     v("min_static_inliers", min_static_inliers, 3, 100000, "fewer static inliers = lost");
-    v("min_matches", min_matches, 3, 100000, "fewer matches: retry with a wider window");
+    v("min_matches", min_matches, 3, 100000, "fewer map matches: retry with a wider window");
     v("wide_match_radius", wide_match_radius, 1, 2000, "px, second guided-matching window");
-    v("ransac_iterations", ransac_iterations, 0, 100000, "3-point 3-D/3-D hypotheses per frame");
-    v("inlier_base", inlier_base, 1e-4, 10.0, "m, 3-D inlier threshold at zero depth");
-    v("inlier_per_m2", inlier_per_m2, 0.0, 10.0, "inlier threshold growth per depth^2");
-    v("prediction_support", prediction_support, 0.0, 10.0,
-      "keep the prediction while its support >= this * RANSAC's");
     v("use_motion_model", use_motion_model, "constant-velocity motion prediction");
-    v("keyframe_min_overlap", keyframe_min_overlap, 0.0, 1.0,
-      "new keyframe below this fraction of the keyframe's static matches");
-    v("keyframe_max_translation", keyframe_max_translation, 0.0, 100.0, "m from the keyframe");
-    v("keyframe_max_rotation", keyframe_max_rotation, 0.0, 180.0, "deg from the keyframe");
     v("previous_frame_labels", previous_frame_labels,
-      "label keypoints unmatched to the keyframe by GMC against the previous frame");
-    v("reanchor_after_lost", reanchor_after_lost, 1, 100000,
-      "lost frames before re-anchoring a keyframe at the predicted pose");
-    v("local_map_keyframes", local_map_keyframes, 1, 64,
-      "recent keyframes whose static matches refine the pose jointly");
+      "label keypoints unmatched to the map by GMC against the previous frame");
     v("dynamic_memory_frames", dynamic_memory_frames, 0, 100000,
       "frames a dynamic label is remembered along frame-to-frame matches (0 = off)");
     v("max_position_sigma", max_position_sigma, 0.0, 100.0,
@@ -74,14 +53,19 @@ struct OdometryConfig {
   GmcParams gmc;                       ///< [GMC]
   OdometryOptions odometry;            ///< [Odometry]
   RefinementOptions refinement;        ///< [Refinement]
+  LocalMapOptions local_map;           ///< [LocalMap]
+  BackgroundOptions background;        ///< [Background]
+  KeyframeOptions keyframes;           ///< [Keyframes]
+  WindowOptions window;                ///< [Window]
 };
 
 /// Milliseconds spent per stage for one frame.
 struct StageTimes {
   double frontend = 0;  ///< extraction + matching + GMS
-  double guess = 0;     ///< motion prediction check + RANSAC
-  double gmc = 0;       ///< GMC classification
+  double guess = 0;     ///< hypotheses (prediction, RANSAC) and their GMC judgement
+  double gmc = 0;       ///< GMC classification against the previous frame (masks)
   double refine = 0;    ///< robust refinement on static matches
+  double window = 0;    ///< windowed optimisation (keyframes only)
   double total = 0;     ///< the odometry: the stages above
   double mask = 0;      ///< per-pixel dynamic mask (built after the odometry, not in total)
 };
@@ -95,8 +79,13 @@ struct FrameTracking {
   TrackingState state = TrackingState::Initialized;
   std::string lost_reason;              ///< why the frame is Lost, empty otherwise
   bool pose_undetermined = false;       ///< Lost with enough inliers: max_position_sigma
+  bool background_untrusted = false;    ///< Lost: the static landmarks disagree with every hypothesis
   bool new_keyframe = false;
-  int local_map_keyframes = 0;          ///< keyframes that contributed static matches
+  int map_landmarks = 0;                ///< live landmarks in the local map
+  int landmarks_in_view = 0;            ///< landmarks projected into this frame
+  int static_landmarks_matched = 0;     ///< matches on landmarks with static evidence ...
+  int static_landmarks_agreeing = 0;    ///< ... of which the chosen background labels static
+  const char* background_source = "";   ///< hypothesis chosen: prediction | ransac_static | ransac_all
   int num_features = 0, num_matches = 0, num_static = 0, num_dynamic = 0, num_inliers = 0;
   double position_sigma = 0;            ///< m, camera position's standard deviation along
                                         ///< its least constrained direction (refinement)
@@ -104,7 +93,7 @@ struct FrameTracking {
   /// Current keypoints and their labels (Undecided when unmatched), for overlays/masks.
   std::vector<cv::Point2f> keypoints;
   std::vector<MotionLabel> keypoint_labels;
-  GmcResult gmc;                        ///< cells and clusters of this frame (vs keyframe)
+  GmcResult gmc;                        ///< cells and clusters of this frame (vs the map)
   GmcResult gmc_previous;               ///< the same against the previous frame (masks)
 
   bool tracked() const {
@@ -112,60 +101,62 @@ struct FrameTracking {
   }
 };
 
+/// The per-frame recipe: predict, match to the landmark map, choose the background
+/// (hypotheses judged by GMC and static evidence), refine on static matches, decide
+/// lost, update the map's evidence, keyframe policy (+ windowed optimisation).
 class RgbdOdometry {
  public:
   explicit RgbdOdometry(const OdometryConfig& config = {});
   const OdometryConfig& config() const { return config_; }
+  const LandmarkMap& landmarks() const { return map_; }
 
   /// gray: CV_8UC1; depth: CV_16UC1 raw units.
   FrameTracking process(const cv::Mat& gray, const cv::Mat& depth, double depth_units,
                         const PinholeCamera& camera, double stamp);
 
  private:
-  struct Keyframe {
-    features::FeatureSet features;
-    std::vector<MotionLabel> labels;  ///< labels at creation (dynamic ones are not trusted)
-    Isometry T_world_kf = Isometry::Identity();
-    int static_matches = 0;
-  };
-  struct Guess {
-    Isometry T_kf_cur = Isometry::Identity();
-    bool from_ransac = false;
-    int support = 0;
+  /// The frame's matches against the landmarks visible from the predicted pose.
+  struct MapTrack {
+    LandmarkView view;
+    std::vector<MotionMatch> motion;     ///< point_ref in the predicted camera frame
+    std::vector<int> cur_index;          ///< keypoint index in the current frame per match
+    std::vector<int> landmark;           ///< landmark id per match
+    MatchTrust trust;
+    std::vector<std::uint8_t> matched;   ///< per current keypoint: matched to a landmark
+    int num_matches = 0;                 ///< after GMS, with or without depth
   };
 
-  /// Matches of the frame against one keyframe with depth on both sides, the initial
-  /// guess of their relative motion and GMC's labels.
-  struct KeyframeTrack {
-    std::vector<MotionMatch> motion;
-    std::vector<int> cur_index;          ///< keypoint index in the current frame per match
-    std::vector<std::uint8_t> trusted;   ///< keyframe feature not labelled dynamic
-    int num_matches = 0;                 ///< after GMS, with or without depth
-    Guess guess;
-    GmcResult gmc;
+  /// A keyframe of the optimisation window: its pose and the landmarks it observed.
+  struct WindowKeyframe {
+    Isometry T_world_kf = Isometry::Identity();
+    std::vector<WindowObservation> observations;  ///< keyframe field unused; landmark = map id
   };
-  /// `fallbacks`: widen the window, then match exhaustively when guided matching finds
-  /// too few (the primary keyframe only).
-  void trackAgainst(const Keyframe& kf, const features::FeatureSet& cur, const Isometry& T_world_guess,
-                    const PinholeCamera& camera, bool fallbacks, GmcClassifier& gmc,
-                    KeyframeTrack& track, StageTimes& times);
-  Guess initialGuess(const std::vector<MotionMatch>& matches,
-                     const std::vector<std::uint8_t>& trusted, const Isometry& predicted);
-  int countSupport(const std::vector<MotionMatch>& matches, const Isometry& T_kf_cur,
-                   const std::vector<std::uint8_t>* mask) const;
-  void makeKeyframe(features::FeatureSet&& features, std::vector<MotionLabel> labels,
-                    const Isometry& T_world_cur, int static_matches);
+
+  void initialize(features::FeatureSet&& cur, double stamp, FrameTracking& out);
+  void matchToMap(const features::FeatureSet& cur, const Isometry& T_world_pred, const PinholeCamera& camera,
+                  double stamp, MapTrack& track) const;
+  void matchPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_pred,
+                          const PinholeCamera& camera);
+  RefinementResult refineOnBackground(const Isometry& T_world_guess, const PinholeCamera& camera,
+                                      FrameTracking& out);
+  void decideTracking(const RefinementResult& refined, Isometry T_world_cur, bool trustworthy,
+                      const Isometry& T_world_pred, FrameTracking& out);
+  void updateMap(const features::FeatureSet& cur, double stamp, FrameTracking& out);
+  void addKeyframe(const features::FeatureSet& cur, double stamp, const FrameTracking& out);
+  /// Windowed optimisation over the last keyframes; returns the newest keyframe's pose.
+  Isometry optimizeWindow(const PinholeCamera& camera, double stamp);
+  void labelAgainstPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_cur,
+                                 FrameTracking& out);
   Isometry predictPose() const;
 
   OdometryConfig config_;
   features::Frontend frontend_;
-  GmcClassifier gmc_;
-  void labelAgainstPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_cur,
-                                 FrameTracking& out);
-
-  std::vector<Keyframe> local_map_;     ///< oldest first; back() is the current keyframe
-  Keyframe& keyframe() { return local_map_.back(); }
-  KeyframeTrack primary_, secondary_;   ///< reused per frame
+  BackgroundSelector background_;
+  KeyframePolicy keyframe_policy_;
+  WindowOptimizer window_;
+  LandmarkMap map_;
+  MapTrack track_;                      ///< reused per frame
+  BackgroundChoice choice_;             ///< reused per frame
   features::FeatureSet previous_;       ///< last frame's features (shared descriptor data)
   Isometry T_world_previous_ = Isometry::Identity();
   std::vector<features::FeatureMatch> previous_matches_;  ///< previous frame -> this frame
@@ -175,9 +166,11 @@ class RgbdOdometry {
   GmcClassifier gmc_previous_;
   bool initialized_ = false;
   Isometry T_world_last_ = Isometry::Identity();
-  Isometry velocity_ = Isometry::Identity();  ///< T_last_prev^-1 style: last frame-to-frame motion
+  double last_stamp_ = 0;
+  Isometry velocity_ = Isometry::Identity();  ///< last frame-to-frame motion
   int lost_streak_ = 0;
-  std::uint64_t rng_state_ = 0x9E3779B97F4A7C15ull;
+  int keyframe_count_ = 0;
+  std::vector<WindowKeyframe> window_keyframes_;  ///< oldest first
 };
 
 }  // namespace gmc::vo

@@ -32,6 +32,7 @@ struct PointObservation {
   Eigen::Vector3d point_ref;
   Eigen::Vector2d pixel;
   double depth = 0;
+  double weight = 1.0;  ///< trust in the point (static evidence), scales its residuals' weight
 };
 
 struct RefinementResult {

@@ -1,0 +1,89 @@
+#pragma once
+// Which matches are the static background: camera-motion hypotheses (the motion
+// prediction, and 3-point RANSAC restricted to landmarks with static evidence, then to
+// every landmark not seen moving), each labelled by GMC, each judged by the static
+// evidence its background cluster carries and by its agreement with the motion prior.
+// When walkers give more matches than the background, the hypothesis that follows a
+// walker makes the walker's young landmarks "static" and the long-lived ones "dynamic",
+// and loses. No I/O.
+#include <cstdint>
+#include <vector>
+
+#include "gmc/gmc/gmc.h"
+
+namespace gmc::vo {
+
+/// INI section [Background].
+struct BackgroundOptions {
+  int ransac_iterations = 150;        ///< 3-point hypotheses per pool
+  double inlier_base = 0.005;         ///< m, 3-D inlier threshold at 0 m ...
+  double inlier_per_m2 = 0.002;       ///< ... plus this times depth^2 (Kinect noise)
+  double prior_translation = 0.05;    ///< m, std dev of the motion prior per 1/30 s
+  double prior_rotation = 5.0;        ///< deg, the same for rotation
+  int min_static_landmarks = 20;      ///< judge agreement once this many static landmarks match ...
+  double min_static_agreement = 0.3;  ///< ... and call the frame lost when fewer agree
+
+  template <class V>
+  void visit(V& v) {
+    v("ransac_iterations", ransac_iterations, 0, 100000, "3-point hypotheses per sampling pool");
+    v("inlier_base", inlier_base, 1e-4, 10.0, "m, 3-D inlier threshold at zero depth");
+    v("inlier_per_m2", inlier_per_m2, 0.0, 10.0, "inlier threshold growth per depth^2");
+    v("prior_translation", prior_translation, 1e-4, 100.0,
+      "m, std dev of the constant-velocity prior's translation per 1/30 s");
+    v("prior_rotation", prior_rotation, 1e-3, 180.0, "deg, the same for rotation");
+    v("min_static_landmarks", min_static_landmarks, 1, 100000,
+      "matched static-evidence landmarks needed before their agreement is judged");
+    v("min_static_agreement", min_static_agreement, 0.0, 1.0,
+      "lost when fewer of the matched static-evidence landmarks are labelled static");
+  }
+};
+
+/// Per match: how far its landmark is trusted (0 suspect .. 1 static evidence), and
+/// whether it has static evidence.
+struct MatchTrust {
+  std::vector<double> weight;
+  std::vector<std::uint8_t> established;
+};
+
+struct BackgroundChoice {
+  Isometry T_ref_cur = Isometry::Identity();  ///< chosen motion (current -> reference frame)
+  GmcResult gmc;                              ///< GMC's labels under it
+  const char* source = "prediction";          ///< prediction | ransac_static | ransac_all
+  double score = 0;                           ///< evidence-weighted static support x prior
+  int hypotheses = 0;                         ///< distinct hypotheses judged
+  int established_matched = 0;                ///< matches on static-evidence landmarks ...
+  int established_agreeing = 0;               ///< ... of which labelled static
+  bool trustworthy = true;                    ///< false: the static landmarks disagree
+};
+
+class BackgroundSelector {
+ public:
+  explicit BackgroundSelector(const BackgroundOptions& options, const GmcParams& gmc);
+  const BackgroundOptions& options() const { return options_; }
+
+  /// matches: point_ref in the reference frame (the predicted camera frame when matching
+  /// against the map), predicted: the motion prior as T_ref_cur; frame_gap: seconds
+  /// since the last tracked frame (scales the prior).
+  void select(const std::vector<MotionMatch>& matches, const MatchTrust& trust, const Isometry& predicted,
+              double frame_gap, int image_width, int image_height, BackgroundChoice& out);
+
+  /// Weighted number of matches within the 3-D inlier threshold under T_ref_cur.
+  double support(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
+                 const Isometry& T_ref_cur) const;
+
+ private:
+  Isometry ransac(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
+                  const std::vector<int>& pool, const Isometry& fallback);
+  Isometry polish(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
+                  Isometry T) const;
+  double priorFactor(const Isometry& T, const Isometry& predicted, double frame_gap) const;
+  bool inlier(const MotionMatch& m, const Isometry& T, double scale = 1.0) const;
+  std::uint64_t nextRandom();
+
+  BackgroundOptions options_;
+  GmcClassifier gmc_;
+  GmcResult scratch_;
+  std::uint64_t rng_state_ = 0x9E3779B97F4A7C15ull;
+};
+
+}  // namespace gmc::vo

@@ -1,0 +1,50 @@
+#pragma once
+// When the odometry takes a keyframe: its landmarks are created and the windowed
+// optimisation runs there. No I/O.
+#include "gmc/gmc/types.h"
+
+namespace gmc::vo {
+
+/// INI section [Keyframes].
+struct KeyframeOptions {
+  double min_overlap = 0.6;        ///< new keyframe when static inliers fall below this
+                                   ///< fraction of those of the first frame after the last one
+  double max_translation = 0.25;   ///< m from the last keyframe
+  double max_rotation = 15.0;      ///< deg from the last keyframe
+  int reanchor_after_lost = 3;     ///< consecutive lost frames before a keyframe is
+                                   ///< anchored at the predicted pose
+
+  template <class V>
+  void visit(V& v) {
+    v("min_overlap", min_overlap, 0.0, 1.0,
+      "new keyframe below this fraction of the static inliers seen just after the last one");
+    v("max_translation", max_translation, 0.0, 100.0, "m from the last keyframe");
+    v("max_rotation", max_rotation, 0.0, 180.0, "deg from the last keyframe");
+    v("reanchor_after_lost", reanchor_after_lost, 1, 100000,
+      "lost frames before re-anchoring a keyframe at the predicted pose");
+  }
+};
+
+enum class KeyframeDecision { None, Insert, Reanchor };
+
+class KeyframePolicy {
+ public:
+  explicit KeyframePolicy(const KeyframeOptions& options = {}) : options_(options) {}
+  const KeyframeOptions& options() const { return options_; }
+
+  /// The first keyframe (or a re-anchored one) at T_world_kf.
+  void reset(const Isometry& T_world_kf) {
+    T_world_kf_ = T_world_kf;
+    reference_inliers_ = 0;
+  }
+
+  /// One frame: tracked with `static_inliers`, or lost for `lost_streak` frames in a row.
+  KeyframeDecision decide(bool tracked, const Isometry& T_world_cur, int static_inliers, int lost_streak);
+
+ private:
+  KeyframeOptions options_;
+  Isometry T_world_kf_ = Isometry::Identity();
+  int reference_inliers_ = 0;
+};
+
+}  // namespace gmc::vo

@@ -1,0 +1,131 @@
+#pragma once
+// A persistent local map of 3-D landmarks (keyframe features with world positions and
+// ORB descriptors) and the static evidence each one gathers over time: re-observed at
+// the same world position over seconds, a landmark is static; seen moving, it is
+// dynamic and stays suspect for a while. The odometry matches every frame against the
+// landmarks visible from its predicted pose and trusts them by their evidence.
+// No I/O; one map per odometry.
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "gmc/features/frontend.h"
+#include "gmc/gmc/gmc.h"
+
+namespace gmc::vo {
+
+/// INI section [LocalMap].
+struct LocalMapOptions {
+  int max_landmarks = 20000;      ///< oldest-seen landmarks are dropped beyond this
+  double static_seconds = 1.0;    ///< re-observed in place over at least this long ...
+  int static_min_hits = 5;        ///< ... and in this many frames: static evidence
+  double suspect_seconds = 3.0;   ///< a landmark seen moving is distrusted this long
+  double young_weight = 0.1;      ///< trust in a landmark without evidence yet (static = 1)
+  double moved_factor = 3.0;      ///< displacement above this x the inlier threshold = moved
+  int cull_after_visible = 20;    ///< judge a landmark's re-finding rate after this many views
+  double cull_found_ratio = 0.2;  ///< ... and drop it when found in fewer of them
+  int view_margin_px = 10;        ///< landmarks projecting this far outside still count as visible
+
+  template <class V>
+  void visit(V& v) {
+    v("max_landmarks", max_landmarks, 100, 10000000, "landmarks kept (least recently seen dropped)");
+    v("static_seconds", static_seconds, 0.0, 3600.0,
+      "s a landmark must be re-observed in place before it counts as static");
+    v("static_min_hits", static_min_hits, 1, 100000,
+      "frames a landmark must be re-observed in place before it counts as static");
+    v("suspect_seconds", suspect_seconds, 0.0, 3600.0, "s a landmark seen moving stays distrusted");
+    v("young_weight", young_weight, 0.0, 1.0, "trust in a landmark without static evidence (static = 1)");
+    v("moved_factor", moved_factor, 1.0, 1000.0,
+      "displacement above this many inlier thresholds marks a landmark as moved");
+    v("cull_after_visible", cull_after_visible, 1, 100000,
+      "views after which a rarely re-found landmark is dropped");
+    v("cull_found_ratio", cull_found_ratio, 0.0, 1.0,
+      "landmarks re-found in fewer than this fraction of their views are dropped");
+    v("view_margin_px", view_margin_px, 0, 1000, "px outside the image still searched");
+  }
+};
+
+/// How far a landmark is trusted to be part of the static world.
+enum class Evidence : std::uint8_t { Suspect = 0, Young = 1, Static = 2 };
+
+struct Landmark {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< world frame (m)
+  std::array<std::uint8_t, 32> descriptor{};           ///< ORB of the creating keyframe
+  double evidence_since = 0;     ///< stamp from which it has been seen in place
+  double last_seen_in_place = 0;  ///< last stamp it was re-observed in place
+  double suspect_until = -std::numeric_limits<double>::infinity();
+  int hits_in_place = 0;         ///< frames re-observed in place since evidence_since
+  int visible = 0, found = 0;    ///< projected into a tracked frame / matched there
+  int keyframe = -1;             ///< keyframe that created it
+  bool alive = true;
+};
+
+/// One match of a frame against the map, as the evidence update needs it.
+struct LandmarkObservation {
+  int landmark = -1;
+  Eigen::Vector3d point_cur = Eigen::Vector3d::Zero();  ///< current camera frame (m)
+  MotionLabel label = MotionLabel::Undecided;           ///< GMC's decision this frame
+};
+
+/// The landmarks visible from a pose, as a reference FeatureSet for guided matching:
+/// points in that pose's camera frame, keypoints at their projections.
+struct LandmarkView {
+  features::FeatureSet set;
+  std::vector<int> ids;  ///< landmark id per entry of `set`
+};
+
+/// Thresholds deciding "in place" (same as the odometry's 3-D inlier threshold).
+struct InPlaceThreshold {
+  double base = 0.005;    ///< m at zero depth
+  double per_m2 = 0.002;  ///< growth per depth^2
+  double at(double depth) const { return base + per_m2 * depth * depth; }
+};
+
+class LandmarkMap {
+ public:
+  explicit LandmarkMap(const LocalMapOptions& options = {}) : options_(options) {}
+  const LocalMapOptions& options() const { return options_; }
+
+  void clear() { landmarks_.clear(); }
+  size_t size() const { return landmarks_.size(); }  ///< including dropped slots
+  size_t numAlive() const;
+  const Landmark& operator[](int id) const { return landmarks_[static_cast<size_t>(id)]; }
+
+  Evidence evidence(int id, double stamp) const;
+  /// Trust used to weigh a match: 0 suspect, young_weight young, 1 static.
+  double weight(int id, double stamp) const;
+
+  /// Landmarks in front of a camera at T_world_camera and inside its image.
+  void view(const Isometry& T_world_camera, const PinholeCamera& camera, double max_depth,
+            LandmarkView& out) const;
+
+  /// Adds every feature with depth that `matched` does not flag, at T_world_camera.
+  /// Features labelled Dynamic start suspect. Returns (feature index, landmark id) pairs.
+  std::vector<std::pair<int, int>> addFeatures(const features::FeatureSet& features, const std::vector<std::uint8_t>& matched,
+                               const std::vector<MotionLabel>& labels, const Isometry& T_world_camera,
+                               double stamp, int keyframe);
+
+  /// Evidence update from a tracked frame at T_world_camera: in place (within the
+  /// threshold and labelled static) adds evidence; moved (beyond moved_factor thresholds
+  /// or labelled dynamic) makes it suspect, restarts its evidence and moves it to where
+  /// it was seen. `visible` are the ids that were searched for in this frame.
+  void observe(const std::vector<LandmarkObservation>& observations, const std::vector<int>& visible,
+               const Isometry& T_world_camera, double stamp, const InPlaceThreshold& threshold);
+
+  /// Moves a landmark (windowed optimisation).
+  void setPosition(int id, const Eigen::Vector3d& p) { landmarks_[static_cast<size_t>(id)].position = p; }
+
+  /// Drops landmarks rarely re-found (static ones excepted: occluded by a crowd they are
+  /// in view without being found), then the least recently seen beyond max_landmarks.
+  /// When dropped slots outnumber live ones the storage is compacted and ids change:
+  /// the result then maps every old id to its new one (-1 = dropped); empty otherwise.
+  std::vector<int> cull(double stamp);
+
+ private:
+  LocalMapOptions options_;
+  std::vector<Landmark> landmarks_;
+};
+
+}  // namespace gmc::vo

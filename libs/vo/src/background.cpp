@@ -1,0 +1,154 @@
+#include "gmc/vo/background.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+namespace gmc::vo {
+namespace {
+
+/// Rigid transform mapping src onto dst (least squares, no scale).
+bool fitRigid(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst, Isometry& T) {
+  if (src.cols() < 3) return false;
+  const Eigen::Matrix4d M = Eigen::umeyama(src, dst, false);
+  if (!M.allFinite()) return false;
+  T.matrix() = M;
+  return true;
+}
+
+bool similar(const Isometry& a, const Isometry& b) {
+  const Isometry d = a.inverse() * b;
+  return d.translation().norm() < 1e-3 && Eigen::AngleAxisd(d.linear()).angle() < 1e-3;
+}
+
+}  // namespace
+
+BackgroundSelector::BackgroundSelector(const BackgroundOptions& options, const GmcParams& gmc)
+    : options_(options), gmc_(gmc) {}
+
+std::uint64_t BackgroundSelector::nextRandom() {  // xorshift64*: deterministic, cheap
+  rng_state_ ^= rng_state_ >> 12;
+  rng_state_ ^= rng_state_ << 25;
+  rng_state_ ^= rng_state_ >> 27;
+  return rng_state_ * 2685821657736338717ull;
+}
+
+bool BackgroundSelector::inlier(const MotionMatch& m, const Isometry& T, double scale) const {
+  const double z = m.point_cur.z();
+  const double thr = scale * (options_.inlier_base + options_.inlier_per_m2 * z * z);
+  return (m.point_ref - T * m.point_cur).squaredNorm() < thr * thr;
+}
+
+double BackgroundSelector::support(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
+                                   const Isometry& T_ref_cur) const {
+  double s = 0;
+  for (size_t i = 0; i < matches.size(); ++i)
+    if (weight[i] > 0 && inlier(matches[i], T_ref_cur)) s += weight[i];
+  return s;
+}
+
+Isometry BackgroundSelector::ransac(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
+                                   const std::vector<int>& pool, const Isometry& fallback) {
+  Isometry best_T = fallback;
+  double best = -1;
+  Eigen::Matrix3Xd src(3, 3), dst(3, 3);
+  const int iterations = pool.size() < 3 ? 0 : options_.ransac_iterations;
+  for (int it = 0; it < iterations; ++it) {
+    int idx[3];
+    for (int k = 0; k < 3; ++k) idx[k] = pool[nextRandom() % pool.size()];
+    if (idx[0] == idx[1] || idx[0] == idx[2] || idx[1] == idx[2]) continue;
+    for (int k = 0; k < 3; ++k) {
+      src.col(k) = matches[static_cast<size_t>(idx[k])].point_cur;
+      dst.col(k) = matches[static_cast<size_t>(idx[k])].point_ref;
+    }
+    // Degenerate (nearly collinear) samples give unstable rotations.
+    if ((src.col(1) - src.col(0)).cross(src.col(2) - src.col(0)).norm() < 1e-3) continue;
+    Isometry T;
+    if (!fitRigid(src, dst, T)) continue;
+    const double s = support(matches, weight, T);
+    if (s > best) {
+      best = s;
+      best_T = T;
+    }
+  }
+  return best_T;
+}
+
+Isometry BackgroundSelector::polish(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
+                                    Isometry T) const {
+  // Least squares on the hypothesis' inliers under the tight threshold: GMC measures
+  // residuals against it, and a centimetre of error would shift the whole background
+  // off the zero-motion pattern.
+  for (int round = 0; round < 3; ++round) {
+    std::vector<int> in;
+    for (size_t i = 0; i < matches.size(); ++i)
+      if (weight[i] > 0 && inlier(matches[i], T)) in.push_back(static_cast<int>(i));
+    if (in.size() < 6) break;
+    Eigen::Matrix3Xd src(3, in.size()), dst(3, in.size());
+    for (size_t k = 0; k < in.size(); ++k) {
+      src.col(static_cast<Eigen::Index>(k)) = matches[static_cast<size_t>(in[k])].point_cur;
+      dst.col(static_cast<Eigen::Index>(k)) = matches[static_cast<size_t>(in[k])].point_ref;
+    }
+    fitRigid(src, dst, T);
+  }
+  return T;
+}
+
+double BackgroundSelector::priorFactor(const Isometry& T, const Isometry& predicted, double frame_gap) const {
+  const double frames = std::max(1.0, frame_gap * 30.0);
+  const Isometry d = predicted.inverse() * T;
+  const double t = d.translation().norm() / (options_.prior_translation * frames);
+  const double r = Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI / (options_.prior_rotation * frames);
+  return std::exp(-0.5 * (t * t + r * r));
+}
+
+void BackgroundSelector::select(const std::vector<MotionMatch>& matches, const MatchTrust& trust,
+                                const Isometry& predicted, double frame_gap, int image_width,
+                                int image_height, BackgroundChoice& out) {
+  std::vector<int> static_pool, trusted_pool;
+  for (size_t i = 0; i < matches.size(); ++i) {
+    if (trust.weight[i] > 0) trusted_pool.push_back(static_cast<int>(i));
+    if (trust.established[i]) static_pool.push_back(static_cast<int>(i));
+  }
+  struct Candidate {
+    Isometry T;
+    const char* source;
+  };
+  std::vector<Candidate> candidates{{polish(matches, trust.weight, predicted), "prediction"}};
+  if (static_pool.size() >= 6)
+    candidates.push_back({polish(matches, trust.weight, ransac(matches, trust.weight, static_pool, predicted)),
+                          "ransac_static"});
+  candidates.push_back({polish(matches, trust.weight, ransac(matches, trust.weight, trusted_pool, predicted)),
+                        "ransac_all"});
+
+  out.score = -1;
+  out.hypotheses = 0;
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    bool seen = false;
+    for (size_t k = 0; k < c; ++k) seen = seen || similar(candidates[k].T, candidates[c].T);
+    if (seen) continue;
+    ++out.hypotheses;
+    gmc_.classify(matches, candidates[c].T, image_width, image_height, scratch_);
+    // Evidence counts the static matches the hypothesis explains: when no cluster sits at
+    // zero motion GMC falls back to the largest one, which the hypothesis does not explain.
+    double evidence = 0;
+    for (size_t i = 0; i < matches.size(); ++i)
+      if (scratch_.labels[i] == MotionLabel::Static && inlier(matches[i], candidates[c].T, 2.0))
+        evidence += trust.weight[i];
+    const double score = evidence * priorFactor(candidates[c].T, predicted, frame_gap);
+    if (score > out.score) {
+      out.score = score;
+      out.T_ref_cur = candidates[c].T;
+      out.source = candidates[c].source;
+      std::swap(out.gmc, scratch_);
+    }
+  }
+  out.established_matched = static_cast<int>(static_pool.size());
+  out.established_agreeing = 0;
+  for (int i : static_pool)
+    if (out.gmc.labels[static_cast<size_t>(i)] == MotionLabel::Static) ++out.established_agreeing;
+  out.trustworthy = out.established_matched < options_.min_static_landmarks ||
+                    out.established_agreeing >= options_.min_static_agreement * out.established_matched;
+}
+
+}  // namespace gmc::vo

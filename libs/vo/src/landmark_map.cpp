@@ -1,0 +1,140 @@
+#include "gmc/vo/landmark_map.h"
+
+#include <algorithm>
+#include <cstring>
+#include <numeric>
+
+namespace gmc::vo {
+
+size_t LandmarkMap::numAlive() const {
+  return static_cast<size_t>(
+      std::count_if(landmarks_.begin(), landmarks_.end(), [](const Landmark& l) { return l.alive; }));
+}
+
+Evidence LandmarkMap::evidence(int id, double stamp) const {
+  const Landmark& l = landmarks_[static_cast<size_t>(id)];
+  if (!l.alive || stamp < l.suspect_until) return Evidence::Suspect;
+  const bool long_enough = l.last_seen_in_place - l.evidence_since >= options_.static_seconds;
+  return long_enough && l.hits_in_place >= options_.static_min_hits ? Evidence::Static : Evidence::Young;
+}
+
+double LandmarkMap::weight(int id, double stamp) const {
+  switch (evidence(id, stamp)) {
+    case Evidence::Suspect: return 0.0;
+    case Evidence::Young: return options_.young_weight;
+    case Evidence::Static: return 1.0;
+  }
+  return 0.0;
+}
+
+void LandmarkMap::view(const Isometry& T_world_camera, const PinholeCamera& camera, double max_depth,
+                       LandmarkView& out) const {
+  out.ids.clear();
+  out.set.keypoints.clear();
+  out.set.points.clear();
+  out.set.width = camera.width;
+  out.set.height = camera.height;
+  const Isometry T_camera_world = T_world_camera.inverse();
+  const double margin = options_.view_margin_px;
+  for (size_t i = 0; i < landmarks_.size(); ++i) {
+    const Landmark& l = landmarks_[i];
+    if (!l.alive) continue;
+    const Eigen::Vector3d p = T_camera_world * l.position;
+    if (p.z() <= 0.05 || p.z() > max_depth) continue;
+    const Eigen::Vector2d uv = camera.project(p);
+    if (uv.x() < -margin || uv.y() < -margin || uv.x() >= camera.width + margin ||
+        uv.y() >= camera.height + margin)
+      continue;
+    out.ids.push_back(static_cast<int>(i));
+    out.set.points.push_back(p);
+    out.set.keypoints.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()), 7.f);
+  }
+  out.set.descriptors.create(static_cast<int>(out.ids.size()), 32, CV_8UC1);
+  for (size_t k = 0; k < out.ids.size(); ++k)
+    std::memcpy(out.set.descriptors.ptr<std::uint8_t>(static_cast<int>(k)),
+                landmarks_[static_cast<size_t>(out.ids[k])].descriptor.data(), 32);
+}
+
+std::vector<std::pair<int, int>> LandmarkMap::addFeatures(const features::FeatureSet& features,
+                                          const std::vector<std::uint8_t>& matched,
+                                          const std::vector<MotionLabel>& labels,
+                                          const Isometry& T_world_camera, double stamp, int keyframe) {
+  std::vector<std::pair<int, int>> added;
+  for (size_t i = 0; i < features.size(); ++i) {
+    if (matched[i] || !features.hasDepth(static_cast<int>(i))) continue;
+    Landmark l;
+    l.position = T_world_camera * features.points[i];
+    std::memcpy(l.descriptor.data(), features.descriptors.ptr<std::uint8_t>(static_cast<int>(i)), 32);
+    l.evidence_since = l.last_seen_in_place = stamp;
+    l.hits_in_place = 1;
+    l.keyframe = keyframe;
+    if (labels[i] == MotionLabel::Dynamic) l.suspect_until = stamp + options_.suspect_seconds;
+    added.emplace_back(static_cast<int>(i), static_cast<int>(landmarks_.size()));
+    landmarks_.push_back(l);
+  }
+  return added;
+}
+
+void LandmarkMap::observe(const std::vector<LandmarkObservation>& observations,
+                          const std::vector<int>& visible, const Isometry& T_world_camera,
+                          double stamp, const InPlaceThreshold& threshold) {
+  for (int id : visible) ++landmarks_[static_cast<size_t>(id)].visible;
+  for (const auto& o : observations) {
+    Landmark& l = landmarks_[static_cast<size_t>(o.landmark)];
+    ++l.found;
+    const Eigen::Vector3d seen = T_world_camera * o.point_cur;
+    const double thr = threshold.at(o.point_cur.z());
+    const double moved = (seen - l.position).norm();
+    if (o.label == MotionLabel::Dynamic || moved > options_.moved_factor * thr) {
+      // Seen elsewhere: whatever evidence it had was for a place it has left.
+      l.suspect_until = stamp + options_.suspect_seconds;
+      l.position = seen;
+      l.evidence_since = l.last_seen_in_place = stamp;
+      l.hits_in_place = 1;
+    } else if (o.label == MotionLabel::Static && moved <= thr) {
+      // Running mean over the first observations averages depth noise, then freezes
+      // so that a slowly drifting pose cannot drag the map along.
+      if (l.hits_in_place < 10) l.position += (seen - l.position) / (l.hits_in_place + 1.0);
+      ++l.hits_in_place;
+      l.last_seen_in_place = stamp;
+    }
+  }
+}
+
+std::vector<int> LandmarkMap::cull(double stamp) {
+  for (size_t i = 0; i < landmarks_.size(); ++i) {
+    Landmark& l = landmarks_[i];
+    if (!l.alive || l.visible < options_.cull_after_visible) continue;
+    // Static landmarks are not judged by their re-finding rate: behind a crowd they are
+    // "visible" for seconds without being found, and they are what holds the pose.
+    if (evidence(static_cast<int>(i), stamp) == Evidence::Static) continue;
+    if (l.found < options_.cull_found_ratio * l.visible) l.alive = false;
+  }
+  size_t alive = numAlive();
+  if (alive > static_cast<size_t>(options_.max_landmarks)) {
+    // Least recently seen in place first.
+    std::vector<int> order;
+    for (size_t i = 0; i < landmarks_.size(); ++i)
+      if (landmarks_[i].alive) order.push_back(static_cast<int>(i));
+    const size_t drop = alive - static_cast<size_t>(options_.max_landmarks);
+    std::nth_element(order.begin(), order.begin() + static_cast<long>(drop), order.end(), [&](int a, int b) {
+      const auto& la = landmarks_[static_cast<size_t>(a)];
+      const auto& lb = landmarks_[static_cast<size_t>(b)];
+      return la.last_seen_in_place != lb.last_seen_in_place ? la.last_seen_in_place < lb.last_seen_in_place : a < b;
+    });
+    for (size_t k = 0; k < drop; ++k) landmarks_[static_cast<size_t>(order[k])].alive = false;
+    alive -= drop;
+  }
+  if (landmarks_.size() - alive < alive) return {};
+  std::vector<int> remap(landmarks_.size(), -1);
+  size_t next = 0;
+  for (size_t i = 0; i < landmarks_.size(); ++i) {
+    if (!landmarks_[i].alive) continue;
+    remap[i] = static_cast<int>(next);
+    landmarks_[next++] = landmarks_[i];
+  }
+  landmarks_.resize(next);
+  return remap;
+}
+
+}  // namespace gmc::vo

@@ -1,0 +1,195 @@
+#include "gmc/vo/window_optimizer.h"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+
+namespace gmc::vo {
+namespace {
+
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat63 = Eigen::Matrix<double, 6, 3>;
+
+Eigen::Matrix3d skewOf(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+Isometry expTwist(const Vec6& xi) {
+  const Eigen::Vector3d rho = xi.head<3>(), phi = xi.tail<3>();
+  const double theta = phi.norm();
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity(), V = Eigen::Matrix3d::Identity();
+  if (theta > 1e-10) {
+    const Eigen::Matrix3d K = skewOf(phi / theta);
+    R = Eigen::AngleAxisd(theta, phi / theta).toRotationMatrix();
+    V += (1 - std::cos(theta)) / theta * K + (theta - std::sin(theta)) / theta * K * K;
+  }
+  Isometry T = Isometry::Identity();
+  T.linear() = R;
+  T.translation() = V * rho;
+  return T;
+}
+
+/// Huber cost of a whitened residual of norm a, and its IRLS weight.
+double huberCost(double a, double k) { return a <= k ? a * a : 2 * k * a - k * k; }
+double huberWeight(double a, double k) { return a <= k ? 1.0 : k / a; }
+
+/// Whitened residuals of one observation and their Jacobians w.r.t. a left perturbation
+/// of T_camera_world and the world point.
+struct Linearized {
+  Eigen::Vector3d r = Eigen::Vector3d::Zero();  ///< u, v, depth (depth 0 when unused)
+  Eigen::Matrix<double, 3, 6> J_pose = Eigen::Matrix<double, 3, 6>::Zero();
+  Eigen::Matrix3d J_point = Eigen::Matrix3d::Zero();
+  double w_px = 0, w_z = 0, cost = 0;
+  bool valid = false;
+};
+
+Linearized linearize(const Isometry& T_cw, const Eigen::Vector3d& X, const WindowObservation& ob,
+                     const PinholeCamera& camera, const RefinementOptions& noise) {
+  Linearized l;
+  const Eigen::Vector3d p = T_cw * X;
+  if (p.z() <= 1e-3) return l;
+  l.valid = true;
+  const double iz = 1.0 / p.z(), inv_px = 1.0 / noise.pixel_sigma;
+  Eigen::Matrix3d dres_dp = Eigen::Matrix3d::Zero();
+  dres_dp.row(0) << camera.fx * iz, 0, -camera.fx * p.x() * iz * iz;
+  dres_dp.row(1) << 0, camera.fy * iz, -camera.fy * p.y() * iz * iz;
+  dres_dp.topRows<2>() *= inv_px;
+  l.r.head<2>() = (camera.project(p) - ob.pixel) * inv_px;
+  const double a_px = l.r.head<2>().norm();
+  l.w_px = huberWeight(a_px, noise.huber);
+  l.cost = huberCost(a_px, noise.huber);
+  if (noise.use_depth && ob.depth > 0) {
+    const double sigma = noise.depth_sigma_base + noise.depth_sigma_per_m2 * ob.depth * ob.depth;
+    dres_dp.row(2) << 0, 0, 1.0 / sigma;
+    l.r.z() = (p.z() - ob.depth) / sigma;
+    l.w_z = huberWeight(std::abs(l.r.z()), noise.huber);
+    l.cost += huberCost(std::abs(l.r.z()), noise.huber);
+  }
+  Eigen::Matrix<double, 3, 6> dp;
+  dp.leftCols<3>().setIdentity();
+  dp.rightCols<3>() = -skewOf(p);
+  l.J_pose = dres_dp * dp;
+  l.J_point = dres_dp * T_cw.linear();
+  return l;
+}
+
+double totalCost(const WindowProblem& pb, const PinholeCamera& camera, const RefinementOptions& noise) {
+  double c = 0;
+  for (const auto& ob : pb.observations) {
+    const auto l = linearize(pb.poses[static_cast<size_t>(ob.keyframe)], pb.points[static_cast<size_t>(ob.landmark)],
+                             ob, camera, noise);
+    if (l.valid) c += l.cost;
+  }
+  return c;
+}
+
+/// The normal equations, landmarks kept as 3x3 blocks for the Schur complement.
+struct NormalEquations {
+  std::vector<Mat6> H_pp;
+  std::vector<Vec6> g_p;
+  std::vector<Eigen::Matrix3d> H_ll;
+  std::vector<Eigen::Vector3d> g_l;
+  std::vector<Mat63> H_pl;  ///< per observation
+};
+
+NormalEquations buildNormalEquations(const WindowProblem& pb, const PinholeCamera& camera,
+                                     const RefinementOptions& noise) {
+  NormalEquations ne;
+  ne.H_pp.assign(pb.poses.size(), Mat6::Zero());
+  ne.g_p.assign(pb.poses.size(), Vec6::Zero());
+  ne.H_ll.assign(pb.points.size(), Eigen::Matrix3d::Zero());
+  ne.g_l.assign(pb.points.size(), Eigen::Vector3d::Zero());
+  ne.H_pl.assign(pb.observations.size(), Mat63::Zero());
+  for (size_t o = 0; o < pb.observations.size(); ++o) {
+    const auto& ob = pb.observations[o];
+    const auto l = linearize(pb.poses[static_cast<size_t>(ob.keyframe)], pb.points[static_cast<size_t>(ob.landmark)],
+                             ob, camera, noise);
+    if (!l.valid) continue;
+    const Eigen::Vector3d w(l.w_px, l.w_px, l.w_z);
+    const Eigen::Matrix<double, 6, 3> JpT_W = l.J_pose.transpose() * w.asDiagonal();
+    const Eigen::Matrix3d JlT_W = l.J_point.transpose() * w.asDiagonal();
+    const size_t k = static_cast<size_t>(ob.keyframe), j = static_cast<size_t>(ob.landmark);
+    ne.H_pp[k] += JpT_W * l.J_pose;
+    ne.g_p[k] += JpT_W * l.r;
+    ne.H_ll[j] += JlT_W * l.J_point;
+    ne.g_l[j] += JlT_W * l.r;
+    ne.H_pl[o] = JpT_W * l.J_point;
+  }
+  return ne;
+}
+
+}  // namespace
+
+WindowResult WindowOptimizer::optimize(WindowProblem& pb, const PinholeCamera& camera) const {
+  WindowResult result;
+  const size_t num_poses = pb.poses.size();
+  result.initial_cost = result.final_cost = totalCost(pb, camera, noise_);
+  if (num_poses < 2 || pb.points.empty()) return result;
+  std::vector<std::vector<size_t>> obs_of_point(pb.points.size());
+  for (size_t o = 0; o < pb.observations.size(); ++o)
+    obs_of_point[static_cast<size_t>(pb.observations[o].landmark)].push_back(o);
+
+  const Eigen::Index n = static_cast<Eigen::Index>(6 * (num_poses - 1));  // pose 0 fixed
+  double lambda = 1e-4;
+  for (int it = 0; it < options_.iterations; ++it) {
+    const NormalEquations ne = buildNormalEquations(pb, camera, noise_);
+    // Reduced camera system S dx = b after eliminating every landmark.
+    Eigen::MatrixXd S = Eigen::MatrixXd::Zero(n, n);
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
+    for (size_t k = 1; k < num_poses; ++k) {
+      Mat6 H = ne.H_pp[k];
+      H.diagonal() *= 1 + lambda;
+      S.block<6, 6>(6 * (k - 1), 6 * (k - 1)) += H;
+      b.segment<6>(6 * (k - 1)) -= ne.g_p[k];
+    }
+    std::vector<Eigen::Matrix3d> H_ll_inv(pb.points.size());
+    for (size_t j = 0; j < pb.points.size(); ++j) {
+      Eigen::Matrix3d H = ne.H_ll[j];
+      H.diagonal() *= 1 + lambda;
+      H.diagonal().array() += 1e-9;
+      H_ll_inv[j] = H.inverse();
+      for (size_t a : obs_of_point[j]) {
+        const size_t ka = static_cast<size_t>(pb.observations[a].keyframe);
+        if (ka == 0) continue;
+        const Mat63 A = ne.H_pl[a] * H_ll_inv[j];
+        b.segment<6>(6 * (ka - 1)) += A * ne.g_l[j];
+        for (size_t c : obs_of_point[j]) {
+          const size_t kc = static_cast<size_t>(pb.observations[c].keyframe);
+          if (kc == 0) continue;
+          S.block<6, 6>(6 * (ka - 1), 6 * (kc - 1)) -= A * ne.H_pl[c].transpose();
+        }
+      }
+    }
+    const Eigen::VectorXd dx = S.ldlt().solve(b);
+    if (!dx.allFinite()) break;
+    // Back-substitution, then accept the step only if the robust cost drops.
+    WindowProblem trial = pb;
+    for (size_t k = 1; k < num_poses; ++k)
+      trial.poses[k] = expTwist(dx.segment<6>(6 * (k - 1))) * pb.poses[k];
+    for (size_t j = 0; j < pb.points.size(); ++j) {
+      Eigen::Vector3d rhs = -ne.g_l[j];
+      for (size_t a : obs_of_point[j]) {
+        const size_t ka = static_cast<size_t>(pb.observations[a].keyframe);
+        if (ka != 0) rhs -= ne.H_pl[a].transpose() * dx.segment<6>(6 * (ka - 1));
+      }
+      trial.points[j] += H_ll_inv[j] * rhs;
+    }
+    const double cost = totalCost(trial, camera, noise_);
+    ++result.iterations;
+    if (cost < result.final_cost) {
+      pb.poses.swap(trial.poses);
+      pb.points.swap(trial.points);
+      const bool small = result.final_cost - cost < 1e-6 * result.final_cost;
+      result.final_cost = cost;
+      lambda = std::max(1e-7, lambda * 0.1);
+      if (small) break;
+    } else {
+      lambda *= 10;
+    }
+  }
+  return result;
+}
+
+}  // namespace gmc::vo

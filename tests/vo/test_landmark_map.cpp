@@ -1,0 +1,182 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "gmc/vo/landmark_map.h"
+
+namespace {
+
+using gmc::Isometry;
+using gmc::MotionLabel;
+using gmc::vo::Evidence;
+using gmc::vo::LandmarkMap;
+using gmc::vo::LandmarkObservation;
+using gmc::vo::LocalMapOptions;
+
+/// n features on a wall 2 m ahead of the camera, each with a distinct descriptor.
+gmc::features::FeatureSet wallFeatures(int n) {
+  gmc::features::FeatureSet f;
+  f.width = 640;
+  f.height = 480;
+  f.descriptors.create(n, 32, CV_8UC1);
+  for (int i = 0; i < n; ++i) {
+    const double x = -0.8 + 1.6 * (i % 10) / 9.0, y = -0.6 + 1.2 * (i / 10) / 9.0;
+    f.points.emplace_back(x, y, 2.0);
+    f.keypoints.emplace_back(static_cast<float>(535 * x / 2 + 320), static_cast<float>(539 * y / 2 + 240), 7.f);
+    for (int b = 0; b < 32; ++b) f.descriptors.at<std::uint8_t>(i, b) = static_cast<std::uint8_t>(i * 7 + b);
+  }
+  return f;
+}
+
+Isometry jitter(std::mt19937& rng, double metres) {
+  std::normal_distribution<double> n(0, metres);
+  Isometry T = Isometry::Identity();
+  T.translation() = Eigen::Vector3d(n(rng), n(rng), n(rng));
+  return T;
+}
+
+/// Observations of every landmark from a camera at T_world_camera, `moved` added to the
+/// landmarks listed in `movers` (world frame).
+std::vector<LandmarkObservation> observeAll(const LandmarkMap& map, const Isometry& T_world_camera,
+                                            const std::vector<int>& movers, const Eigen::Vector3d& moved,
+                                            MotionLabel mover_label) {
+  std::vector<LandmarkObservation> obs;
+  for (int id = 0; id < static_cast<int>(map.size()); ++id) {
+    const bool mover = std::find(movers.begin(), movers.end(), id) != movers.end();
+    const Eigen::Vector3d world = map[id].position + (mover ? moved : Eigen::Vector3d::Zero());
+    obs.push_back({id, T_world_camera.inverse() * world, mover ? mover_label : MotionLabel::Static});
+  }
+  return obs;
+}
+
+TEST(LandmarkMap, WallLandmarksBecomeStaticUnderAHoveringCamera) {
+  LandmarkMap map;
+  const auto f = wallFeatures(100);
+  const auto added = map.addFeatures(f, std::vector<std::uint8_t>(100, 0),
+                                     std::vector<MotionLabel>(100, MotionLabel::Undecided), Isometry::Identity(), 0.0, 0);
+  ASSERT_EQ(added.size(), 100u);
+  EXPECT_EQ(map.evidence(0, 0.0), Evidence::Young);
+  std::mt19937 rng(3);
+  std::vector<int> ids(100);
+  for (int i = 0; i < 100; ++i) ids[static_cast<size_t>(i)] = i;
+  for (int frame = 1; frame <= 45; ++frame) {  // 1.5 s hovering within a few millimetres
+    const double stamp = frame / 30.0;
+    const Isometry T = jitter(rng, 0.002);
+    map.observe(observeAll(map, T, {}, Eigen::Vector3d::Zero(), MotionLabel::Static), ids, T, stamp, {});
+    if (frame == 15) {
+      EXPECT_EQ(map.evidence(5, stamp), Evidence::Young) << "0.5 s is not enough";
+    }
+  }
+  for (int id = 0; id < 100; ++id) EXPECT_EQ(map.evidence(id, 1.5), Evidence::Static) << id;
+  EXPECT_DOUBLE_EQ(map.weight(0, 1.5), 1.0);
+  // Positions stay put (averaged noise, no drift).
+  EXPECT_LT((map[0].position - f.points[0]).norm(), 0.003);
+}
+
+TEST(LandmarkMap, ALandmarkOnAWalkerThatMovesBecomesSuspectAndStaysSo) {
+  LocalMapOptions o;
+  LandmarkMap map(o);
+  const auto f = wallFeatures(20);
+  map.addFeatures(f, std::vector<std::uint8_t>(20, 0), std::vector<MotionLabel>(20, MotionLabel::Undecided),
+                  Isometry::Identity(), 0.0, 0);
+  std::vector<int> ids(20);
+  for (int i = 0; i < 20; ++i) ids[static_cast<size_t>(i)] = i;
+  const std::vector<int> walker{3, 4, 5};
+  // Everything in place for 1.5 s: all static (a person standing still is no different).
+  for (int frame = 1; frame <= 45; ++frame)
+    map.observe(observeAll(map, Isometry::Identity(), {}, Eigen::Vector3d::Zero(), MotionLabel::Static), ids, Isometry::Identity(),
+                frame / 30.0, {});
+  EXPECT_EQ(map.evidence(4, 1.5), Evidence::Static);
+  // The walker steps away at 1.2 m/s (4 cm per frame), even labelled static by GMC.
+  map.observe(observeAll(map, Isometry::Identity(), walker, Eigen::Vector3d(0.04, 0, 0), MotionLabel::Static), ids,
+              Isometry::Identity(), 1.5 + 1 / 30.0, {});
+  for (int id : walker) EXPECT_EQ(map.evidence(id, 1.54), Evidence::Suspect);
+  EXPECT_EQ(map.evidence(0, 1.54), Evidence::Static);
+  EXPECT_DOUBLE_EQ(map.weight(4, 1.54), 0.0);
+  // It stops where it went: still suspect for suspect_seconds, then young, then static again.
+  double stamp = 1.5 + 1 / 30.0;
+  for (int frame = 0; frame < 150; ++frame) {
+    stamp += 1 / 30.0;
+    map.observe(observeAll(map, Isometry::Identity(), {}, Eigen::Vector3d::Zero(), MotionLabel::Static), ids, Isometry::Identity(), stamp,
+                {});
+    if (stamp < 1.5 + o.suspect_seconds) {
+      EXPECT_EQ(map.evidence(4, stamp), Evidence::Suspect) << stamp;
+    }
+  }
+  EXPECT_EQ(map.evidence(4, stamp), Evidence::Static);
+}
+
+TEST(LandmarkMap, DynamicFeaturesStartSuspect) {
+  LandmarkMap map;
+  const auto f = wallFeatures(10);
+  std::vector<MotionLabel> labels(10, MotionLabel::Static);
+  labels[2] = MotionLabel::Dynamic;
+  std::vector<std::uint8_t> matched(10, 0);
+  matched[7] = 1;  // already in the map: not added again
+  const auto added = map.addFeatures(f, matched, labels, Isometry::Identity(), 0.0, 0);
+  EXPECT_EQ(added.size(), 9u);
+  EXPECT_EQ(map.evidence(2, 0.1), Evidence::Suspect);
+  EXPECT_EQ(map.evidence(3, 0.1), Evidence::Young);
+}
+
+TEST(LandmarkMap, ViewKeepsLandmarksInFrontAndInsideTheImage) {
+  LandmarkMap map;
+  const auto f = wallFeatures(100);
+  map.addFeatures(f, std::vector<std::uint8_t>(100, 0), std::vector<MotionLabel>(100, MotionLabel::Undecided),
+                  Isometry::Identity(), 0.0, 0);
+  gmc::vo::LandmarkView view;
+  map.view(Isometry::Identity(), gmc::PinholeCamera{}, 6.0, view);
+  EXPECT_EQ(view.ids.size(), 100u);
+  EXPECT_NEAR(view.set.keypoints[0].pt.x, f.keypoints[0].pt.x, 1.0);
+  Isometry turned = Isometry::Identity();  // looking the other way
+  turned.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  map.view(turned, gmc::PinholeCamera{}, 6.0, view);
+  EXPECT_TRUE(view.ids.empty());
+}
+
+TEST(LandmarkMap, CullDropsLandmarksNeverRefoundButNotStaticOnesHiddenByACrowd) {
+  LocalMapOptions o;
+  o.cull_after_visible = 10;
+  LandmarkMap map(o);
+  const auto f = wallFeatures(20);
+  map.addFeatures(f, std::vector<std::uint8_t>(20, 0), std::vector<MotionLabel>(20, MotionLabel::Undecided),
+                  Isometry::Identity(), 0.0, 0);
+  std::vector<int> ids(20);
+  for (int i = 0; i < 20; ++i) ids[static_cast<size_t>(i)] = i;
+  // Landmarks 0-9 seen in place for 1.5 s, 10-19 never re-found.
+  std::vector<LandmarkObservation> first_half;
+  double stamp = 0;
+  for (int frame = 1; frame <= 45; ++frame) {
+    stamp = frame / 30.0;
+    auto obs = observeAll(map, Isometry::Identity(), {}, Eigen::Vector3d::Zero(), MotionLabel::Static);
+    obs.resize(10);
+    map.observe(obs, ids, Isometry::Identity(), stamp, {});
+  }
+  // Then a crowd hides everything for a second.
+  for (int frame = 0; frame < 30; ++frame) map.observe({}, ids, Isometry::Identity(), stamp += 1 / 30.0, {});
+  const auto remap = map.cull(stamp);
+  EXPECT_EQ(map.numAlive(), 10u);
+  ASSERT_FALSE(remap.empty()) << "half the slots are dead: compacted";
+  EXPECT_EQ(remap[3], 3);
+  EXPECT_EQ(remap[15], -1);
+  EXPECT_EQ(map.size(), 10u);
+}
+
+TEST(LandmarkMap, BeyondMaxLandmarksTheLeastRecentlySeenGo) {
+  LocalMapOptions o;
+  o.max_landmarks = 100;
+  LandmarkMap map(o);
+  const auto f = wallFeatures(100);
+  const std::vector<std::uint8_t> none(100, 0);
+  const std::vector<MotionLabel> labels(100, MotionLabel::Undecided);
+  map.addFeatures(f, none, labels, Isometry::Identity(), 0.0, 0);
+  map.addFeatures(f, none, labels, Isometry::Identity(), 5.0, 1);
+  map.cull(5.0);
+  EXPECT_EQ(map.numAlive(), 100u);
+  for (int id = 0; id < static_cast<int>(map.size()); ++id)
+    if (map[id].alive) {
+      EXPECT_EQ(map[id].keyframe, 1);
+    }
+}
+
+}  // namespace

@@ -1,0 +1,81 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "gmc/vo/window_optimizer.h"
+
+namespace {
+
+using gmc::Isometry;
+using gmc::vo::WindowOptimizer;
+using gmc::vo::WindowProblem;
+
+Isometry poseAt(int k) {  // a camera sliding sideways and turning slowly, as T_camera_world
+  Isometry T_world_camera = Isometry::Identity();
+  T_world_camera.translation() = Eigen::Vector3d(0.05 * k, 0.01 * k, 0.0);
+  T_world_camera.linear() = Eigen::AngleAxisd(0.02 * k, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  return T_world_camera.inverse();
+}
+
+double positionError(const Isometry& a, const Isometry& b) {
+  return (a.inverse().translation() - b.inverse().translation()).norm();
+}
+
+TEST(WindowOptimizer, RecoversAKnownTrajectoryFromNoisyStart) {
+  const gmc::PinholeCamera camera;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1.5, 1.5), Z(2.0, 5.0);
+  std::normal_distribution<double> N(0, 1);
+  WindowProblem truth, problem;
+  for (int k = 0; k < 6; ++k) truth.poses.push_back(poseAt(k));
+  for (int j = 0; j < 300; ++j) truth.points.emplace_back(U(rng), 0.6 * U(rng), Z(rng));
+  problem = truth;
+  problem.points.clear();
+  for (const auto& X : truth.points) problem.points.push_back(X + 0.01 * Eigen::Vector3d(N(rng), N(rng), N(rng)));
+  for (size_t k = 1; k < truth.poses.size(); ++k) {  // 2 cm and ~0.6 degrees off
+    Isometry d = Isometry::Identity();
+    d.translation() = 0.02 * Eigen::Vector3d(N(rng), N(rng), N(rng)).normalized();
+    d.linear() = Eigen::AngleAxisd(0.01, Eigen::Vector3d(N(rng), N(rng), N(rng)).normalized()).toRotationMatrix();
+    problem.poses[k] = d * truth.poses[k];
+  }
+  for (int k = 0; k < 6; ++k)
+    for (int j = 0; j < 300; ++j) {
+      const Eigen::Vector3d p = truth.poses[static_cast<size_t>(k)] * truth.points[static_cast<size_t>(j)];
+      if (p.z() <= 0.1 || !camera.inside(camera.project(p).x(), camera.project(p).y())) continue;
+      const double depth = p.z() + (0.002 + 0.002 * p.z() * p.z()) * N(rng);
+      problem.observations.push_back({k, j, camera.project(p) + 0.5 * Eigen::Vector2d(N(rng), N(rng)), depth});
+    }
+  ASSERT_GT(problem.observations.size(), 1000u);
+  double before = 0;
+  for (size_t k = 1; k < 6; ++k) before = std::max(before, positionError(problem.poses[k], truth.poses[k]));
+
+  WindowOptimizer optimizer({6, 10, 2});
+  const auto r = optimizer.optimize(problem, camera);
+  double after = 0;
+  for (size_t k = 1; k < 6; ++k) after = std::max(after, positionError(problem.poses[k], truth.poses[k]));
+  std::printf("  worst keyframe position error %.4f m -> %.4f m, cost %.0f -> %.0f in %d iterations\n", before,
+              after, r.initial_cost, r.final_cost, r.iterations);
+  EXPECT_LT(r.final_cost, r.initial_cost);
+  EXPECT_LT(after, 0.003);
+  EXPECT_TRUE(problem.poses[0].isApprox(truth.poses[0])) << "the oldest pose holds the gauge";
+}
+
+TEST(WindowOptimizer, AnOutlierLandmarkDoesNotPullThePoses) {
+  const gmc::PinholeCamera camera;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-1.5, 1.5), Z(2.0, 5.0);
+  WindowProblem pb;
+  for (int k = 0; k < 4; ++k) pb.poses.push_back(poseAt(k));
+  for (int j = 0; j < 200; ++j) pb.points.emplace_back(U(rng), 0.6 * U(rng), Z(rng));
+  const WindowProblem truth = pb;
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 200; ++j) {
+      Eigen::Vector3d p = pb.poses[static_cast<size_t>(k)] * pb.points[static_cast<size_t>(j)];
+      if (j < 20 && k == 3) p.x() += 0.15;  // ten percent of the points moved (a walker)
+      pb.observations.push_back({k, j, camera.project(p), p.z()});
+    }
+  WindowOptimizer({4, 10, 2}).optimize(pb, camera);
+  for (size_t k = 1; k < 4; ++k) EXPECT_LT(positionError(pb.poses[k], truth.poses[k]), 0.005) << k;
+}
+
+}  // namespace
