@@ -85,19 +85,42 @@ void LandmarkMap::observe(const std::vector<LandmarkObservation>& observations,
     const Eigen::Vector3d seen = T_world_camera * o.point_cur;
     const double thr = threshold.at(o.point_cur.z());
     const double moved = (seen - l.position).norm();
-    if (o.label == MotionLabel::Dynamic || moved > options_.moved_factor * thr) {
-      // Seen elsewhere: whatever evidence it had was for a place it has left.
-      l.suspect_until = stamp + options_.suspect_seconds;
+    const bool in_band = moved <= options_.in_place_factor * thr;
+    const bool dynamic_label = o.label == MotionLabel::Dynamic;
+    if (stamp < l.suspect_until) {
+      // Followed while suspect, so that a walker keeps being recognised; moving on
+      // renews the suspicion.
+      if (!in_band) l.suspect_until = stamp + options_.suspect_seconds;
       l.position = seen;
       l.evidence_since = l.last_seen_in_place = stamp;
       l.hits_in_place = 1;
-    } else if (o.label == MotionLabel::Static && moved <= thr) {
+      continue;
+    }
+    if (in_band && !dynamic_label) {
       // Running mean over the first observations averages depth noise, then freezes
       // so that a slowly drifting pose cannot drag the map along.
       if (l.hits_in_place < 10) l.position += (seen - l.position) / (l.hits_in_place + 1.0);
       ++l.hits_in_place;
       l.last_seen_in_place = stamp;
+      l.moved_streak = 0;
+      continue;
     }
+    if (in_band) continue;  // GMC's dynamic label within the noise band: no evidence either way
+    // Out of place. GMC's label, or a displacement beyond moved_factor seen twice in a
+    // row, means it moved; a single jump is often a corner on a depth edge whose reading
+    // flips between foreground and background, which is not worth a suspicion.
+    ++l.moved_streak;
+    const bool moved_far = moved > options_.moved_factor * thr;
+    if (dynamic_label || (moved_far && l.moved_streak >= 2)) {
+      l.suspect_until = stamp + options_.suspect_seconds;
+    } else if (l.moved_streak < 3) {
+      continue;
+    }
+    // Moved, or persistently somewhere else: its evidence was for a place it has left.
+    l.position = seen;
+    l.evidence_since = l.last_seen_in_place = stamp;
+    l.hits_in_place = 1;
+    l.moved_streak = 0;
   }
 }
 

@@ -133,6 +133,12 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   T_world_last_ = out.T_world_camera;
   last_stamp_ = stamp;
   out.times.total = msSince(t_start);
+  if (std::getenv("GMC_DEBUG")) {
+    int c[3][3] = {{0}};
+    for (size_t k = 0; k < track_.motion.size(); ++k)
+      ++c[static_cast<int>(map_.evidence(track_.landmark[k], stamp))][static_cast<int>(choice_.gmc.labels[k])];
+    std::fprintf(stderr, "EVI suspect S%d D%d U%d young S%d D%d U%d static S%d D%d U%d\n", c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]);
+  }
   if (std::getenv("GMC_DEBUG"))
     std::fprintf(stderr, "DBG %.3f %s view %d match %d motion %zu src %s hyp %d est %d/%d static %d dyn %d inl %d map %d t %.1f/%.1f/%.1f/%.1f\n",
                  stamp, toString(out.state), out.landmarks_in_view, out.num_matches, track_.motion.size(), out.background_source,
@@ -385,7 +391,15 @@ Isometry RgbdOdometry::optimizeWindow(const PinholeCamera& camera, double stamp)
       problem.observations.push_back(ob);
     }
   }
-  if (problem.points.size() >= 10) window_.optimize(problem, camera);
+  // Every keyframe it moves must be held by enough static landmarks, or the window would
+  // let a weakly observed pose swing.
+  std::vector<int> per_keyframe(window_keyframes_.size(), 0);
+  for (const auto& ob : problem.observations) ++per_keyframe[static_cast<size_t>(ob.keyframe)];
+  const int min_per_keyframe = config_.odometry.min_static_inliers;
+  if (problem.poses.size() < 2 ||
+      *std::min_element(per_keyframe.begin() + 1, per_keyframe.end()) < min_per_keyframe)
+    return window_keyframes_.back().T_world_kf;
+  window_.optimize(problem, camera);
   for (size_t k = 0; k < window_keyframes_.size(); ++k) window_keyframes_[k].T_world_kf = problem.poses[k].inverse();
   for (const auto& [id, j] : index_of) map_.setPosition(id, problem.points[static_cast<size_t>(j)]);
   return window_keyframes_.back().T_world_kf;

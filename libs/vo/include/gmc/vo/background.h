@@ -18,8 +18,11 @@ struct BackgroundOptions {
   int ransac_iterations = 150;        ///< 3-point hypotheses per pool
   double inlier_base = 0.005;         ///< m, 3-D inlier threshold at 0 m ...
   double inlier_per_m2 = 0.002;       ///< ... plus this times depth^2 (Kinect noise)
-  double prior_translation = 0.05;    ///< m, std dev of the motion prior per 1/30 s
-  double prior_rotation = 5.0;        ///< deg, the same for rotation
+  double prior_translation = 0.01;    ///< m, std dev of the motion prior per 1/30 s: a
+                                      ///< hand-held camera changes its velocity by
+                                      ///< < 0.3 m/s in 1/30 s (10 m/s^2); walkers' own
+                                      ///< motion is 3-5 cm per frame
+  double prior_rotation = 1.0;        ///< deg, the same for rotation (30 deg/s change)
   int min_static_landmarks = 20;      ///< judge agreement once this many static landmarks match ...
   double min_static_agreement = 0.3;  ///< ... and call the frame lost when fewer agree
 

@@ -23,7 +23,9 @@ struct LocalMapOptions {
   int static_min_hits = 5;        ///< ... and in this many frames: static evidence
   double suspect_seconds = 3.0;   ///< a landmark seen moving is distrusted this long
   double young_weight = 0.1;      ///< trust in a landmark without evidence yet (static = 1)
-  double moved_factor = 3.0;      ///< displacement above this x the inlier threshold = moved
+  double in_place_factor = 2.0;   ///< re-observed within this x the inlier threshold = in place
+  double moved_factor = 4.0;      ///< displacement above this x the inlier threshold = moved
+                                  ///< (above in_place_factor when GMC labels it dynamic)
   int cull_after_visible = 20;    ///< judge a landmark's re-finding rate after this many views
   double cull_found_ratio = 0.2;  ///< ... and drop it when found in fewer of them
   int view_margin_px = 10;        ///< landmarks projecting this far outside still count as visible
@@ -37,6 +39,8 @@ struct LocalMapOptions {
       "frames a landmark must be re-observed in place before it counts as static");
     v("suspect_seconds", suspect_seconds, 0.0, 3600.0, "s a landmark seen moving stays distrusted");
     v("young_weight", young_weight, 0.0, 1.0, "trust in a landmark without static evidence (static = 1)");
+    v("in_place_factor", in_place_factor, 0.1, 1000.0,
+      "re-observed within this many inlier thresholds of its position: in place");
     v("moved_factor", moved_factor, 1.0, 1000.0,
       "displacement above this many inlier thresholds marks a landmark as moved");
     v("cull_after_visible", cull_after_visible, 1, 100000,
@@ -57,6 +61,7 @@ struct Landmark {
   double last_seen_in_place = 0;  ///< last stamp it was re-observed in place
   double suspect_until = -std::numeric_limits<double>::infinity();
   int hits_in_place = 0;         ///< frames re-observed in place since evidence_since
+  int moved_streak = 0;          ///< consecutive observations out of place
   int visible = 0, found = 0;    ///< projected into a tracked frame / matched there
   int keyframe = -1;             ///< keyframe that created it
   bool alive = true;
@@ -107,10 +112,11 @@ class LandmarkMap {
                                const std::vector<MotionLabel>& labels, const Isometry& T_world_camera,
                                double stamp, int keyframe);
 
-  /// Evidence update from a tracked frame at T_world_camera: in place (within the
-  /// threshold and labelled static) adds evidence; moved (beyond moved_factor thresholds
-  /// or labelled dynamic) makes it suspect, restarts its evidence and moves it to where
-  /// it was seen. `visible` are the ids that were searched for in this frame.
+  /// Evidence update from a tracked frame at T_world_camera: in place (within
+  /// in_place_factor thresholds, not labelled dynamic) adds evidence; out of place and
+  /// labelled dynamic, or beyond moved_factor thresholds twice in a row, it moved: it
+  /// becomes suspect and its evidence restarts where it was seen. A suspect landmark
+  /// follows what it is seen on. `visible` are the ids searched for in this frame.
   void observe(const std::vector<LandmarkObservation>& observations, const std::vector<int>& visible,
                const Isometry& T_world_camera, double stamp, const InPlaceThreshold& threshold);
 
