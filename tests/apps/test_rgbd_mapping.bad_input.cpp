@@ -232,7 +232,7 @@ TEST(RgbdMappingBadInput, BlackImageAndZeroDepthFramesAreLostAndCounted) {
   frames[8].depth.setTo(0);
   for (int i = 12; i < 16; ++i) frames[static_cast<size_t>(i)].rgb.setTo(cv::Scalar::all(0));
   const auto dir = writeTumFolder(root + "/seq", frames);
-  const AppRun r = runMapping(dir, root + "/out");
+  const AppRun r = runMapping(dir, root + "/out", {"--set", "Keyframes.reanchor_after_lost=3"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.count("frames"), 20);
   EXPECT_EQ(r.lines("frame 5 (rgb/5.png) lost"), 1u) << r.err;

@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <map>
 
 namespace gmc::vo {
@@ -107,7 +106,8 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
 
   // 3. Refinement on the static matches, 4. tracked or lost.
   t0 = Clock::now();
-  const RefinementResult refined = refineOnBackground(T_world_pred * choice_.T_ref_cur, camera, out);
+  const RefinementResult refined =
+      refineOnBackground(T_world_pred * choice_.T_ref_cur, T_world_pred, stamp - last_stamp_, camera, out);
   out.times.refine += msSince(t0);
   decideTracking(refined, orthonormalized(refined.T_cur_ref).inverse(), choice_.trustworthy, T_world_pred, out);
 
@@ -133,17 +133,6 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   T_world_last_ = out.T_world_camera;
   last_stamp_ = stamp;
   out.times.total = msSince(t_start);
-  if (std::getenv("GMC_DEBUG")) {
-    int c[3][3] = {{0}};
-    for (size_t k = 0; k < track_.motion.size(); ++k)
-      ++c[static_cast<int>(map_.evidence(track_.landmark[k], stamp))][static_cast<int>(choice_.gmc.labels[k])];
-    std::fprintf(stderr, "EVI suspect S%d D%d U%d young S%d D%d U%d static S%d D%d U%d\n", c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]);
-  }
-  if (std::getenv("GMC_DEBUG"))
-    std::fprintf(stderr, "DBG %.3f %s view %d match %d motion %zu src %s hyp %d est %d/%d static %d dyn %d inl %d map %d t %.1f/%.1f/%.1f/%.1f\n",
-                 stamp, toString(out.state), out.landmarks_in_view, out.num_matches, track_.motion.size(), out.background_source,
-                 choice_.hypotheses, out.static_landmarks_agreeing, out.static_landmarks_matched, out.num_static,
-                 out.num_dynamic, out.num_inliers, out.map_landmarks, out.times.frontend, out.times.guess, out.times.refine, out.times.window);
   return out;
 }
 
@@ -218,8 +207,8 @@ void RgbdOdometry::matchToMap(const features::FeatureSet& cur, const Isometry& T
   }
 }
 
-RefinementResult RgbdOdometry::refineOnBackground(const Isometry& T_world_guess, const PinholeCamera& camera,
-                                                  FrameTracking& out) {
+RefinementResult RgbdOdometry::refineOnBackground(const Isometry& T_world_guess, const Isometry& T_world_pred,
+                                                  double frame_gap, const PinholeCamera& camera, FrameTracking& out) {
   std::vector<PointObservation> obs;
   out.num_static = out.num_dynamic = 0;
   double max_weight = 0;
@@ -244,7 +233,20 @@ RefinementResult RgbdOdometry::refineOnBackground(const Isometry& T_world_guess,
   }
   // Relative trust: young landmarks count less only next to landmarks with evidence.
   for (auto& o : obs) o.weight /= max_weight;
-  return refinePose(obs, T_world_guess.inverse(), camera, config_.refinement);
+  return refinePose(obs, T_world_guess.inverse(), camera, config_.refinement, motionPrior(T_world_pred, frame_gap));
+}
+
+MotionPrior RgbdOdometry::motionPrior(const Isometry& T_world_pred, double frame_gap) const {
+  // The constant-velocity prediction as a soft constraint: per-frame measurement noise
+  // of a few hundred static points on noisy depth is ~1 cm, the same order as what a
+  // hand-held camera's velocity can change in 1/30 s. Widened over gaps and lost frames.
+  MotionPrior prior;
+  if (!config_.odometry.motion_prior) return prior;
+  const double frames = std::max(1.0, frame_gap * 30.0) * (1 + lost_streak_);
+  prior.T_cur_ref = T_world_pred.inverse();
+  prior.sigma_translation = config_.background.prior_translation * frames;
+  prior.sigma_rotation = config_.background.prior_rotation * M_PI / 180.0 * frames;
+  return prior;
 }
 
 void RgbdOdometry::decideTracking(const RefinementResult& refined, Isometry T_world_cur, bool trustworthy,
@@ -374,7 +376,7 @@ Isometry RgbdOdometry::optimizeWindow(const PinholeCamera& camera, double stamp)
   std::map<int, int> count;
   for (const auto& kf : window_keyframes_)
     for (const auto& ob : kf.observations)
-      if (map_[ob.landmark].alive && map_.evidence(ob.landmark, stamp) == Evidence::Static) ++count[ob.landmark];
+      if (map_[ob.landmark].alive && map_.evidence(ob.landmark, stamp) != Evidence::Suspect) ++count[ob.landmark];
   WindowProblem problem;
   for (const auto& [id, n] : count) {
     if (n < config_.window.min_observations) continue;

@@ -50,7 +50,7 @@ double positionStdDev(const RefinementResult& result) {
 
 RefinementResult refinePose(const std::vector<PointObservation>& observations,
                             const Isometry& T_cur_ref_initial, const PinholeCamera& camera,
-                            const RefinementOptions& options) {
+                            const RefinementOptions& options, const MotionPrior& prior) {
   RefinementResult result;
   result.T_cur_ref = T_cur_ref_initial;
   if (observations.size() < 3) return result;
@@ -99,6 +99,18 @@ RefinementResult refinePose(const std::vector<PointObservation>& observations,
     result.final_cost = cost;
     result.inliers = inliers;
     result.information = H;
+    if (prior.sigma_translation > 0 && prior.sigma_rotation > 0) {
+      // r = log(T * T_prior^-1), to first order the left perturbation itself.
+      const Isometry D = result.T_cur_ref * prior.T_cur_ref.inverse();
+      const Eigen::AngleAxisd aa(D.linear());
+      Vec6 r;
+      r << D.translation(), aa.angle() * aa.axis();
+      Vec6 info;
+      info << Eigen::Vector3d::Constant(1.0 / (prior.sigma_translation * prior.sigma_translation)),
+          Eigen::Vector3d::Constant(1.0 / (prior.sigma_rotation * prior.sigma_rotation));
+      H.diagonal() += info;
+      g += info.cwiseProduct(r);
+    }
     H.diagonal().array() += 1e-9;  // keeps degenerate directions solvable
     const Vec6 delta = -H.ldlt().solve(g);
     if (!delta.allFinite()) break;

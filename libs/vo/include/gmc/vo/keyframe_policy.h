@@ -11,8 +11,10 @@ struct KeyframeOptions {
                                    ///< fraction of those of the first frame after the last one
   double max_translation = 0.25;   ///< m from the last keyframe
   double max_rotation = 15.0;      ///< deg from the last keyframe
-  int reanchor_after_lost = 3;     ///< consecutive lost frames before a keyframe is
-                                   ///< anchored at the predicted pose
+  int reanchor_after_lost = 30;    ///< consecutive lost frames before a keyframe is
+                                   ///< anchored at the predicted pose: late, because
+                                   ///< landmarks made at a guessed pose in a crowd
+                                   ///< teach the map the crowd (doc/odometry.md)
 
   template <class V>
   void visit(V& v) {

@@ -22,6 +22,8 @@ struct OdometryOptions {
   int min_matches = 30;                 ///< fewer map matches: retry with a wider window
   int wide_match_radius = 100;          ///< px, second attempt of guided matching
   bool use_motion_model = true;         ///< constant-velocity prediction
+  bool motion_prior = true;             ///< the prediction also joins the refinement as a
+                                        ///< Gaussian prior ([Background] prior_* widths)
   bool previous_frame_labels = true;    ///< also run GMC against the previous frame, so
                                         ///< walkers too fast to match to the map are
                                         ///< labelled (for masks; not for the pose)
@@ -37,6 +39,7 @@ struct OdometryOptions {
     v("min_matches", min_matches, 3, 100000, "fewer map matches: retry with a wider window");
     v("wide_match_radius", wide_match_radius, 1, 2000, "px, second guided-matching window");
     v("use_motion_model", use_motion_model, "constant-velocity motion prediction");
+    v("motion_prior", motion_prior, "the prediction joins the refinement as a prior ([Background] prior_*)");
     v("previous_frame_labels", previous_frame_labels,
       "label keypoints unmatched to the map by GMC against the previous frame");
     v("dynamic_memory_frames", dynamic_memory_frames, 0, 100000,
@@ -137,8 +140,9 @@ class RgbdOdometry {
                   double stamp, MapTrack& track) const;
   void matchPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_pred,
                           const PinholeCamera& camera);
-  RefinementResult refineOnBackground(const Isometry& T_world_guess, const PinholeCamera& camera,
-                                      FrameTracking& out);
+  RefinementResult refineOnBackground(const Isometry& T_world_guess, const Isometry& T_world_pred,
+                                      double frame_gap, const PinholeCamera& camera, FrameTracking& out);
+  MotionPrior motionPrior(const Isometry& T_world_pred, double frame_gap) const;
   void decideTracking(const RefinementResult& refined, Isometry T_world_cur, bool trustworthy,
                       const Isometry& T_world_pred, FrameTracking& out);
   void updateMap(const features::FeatureSet& cur, double stamp, FrameTracking& out);

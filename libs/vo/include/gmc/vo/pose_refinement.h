@@ -51,9 +51,19 @@ struct RefinementResult {
 /// of one wall under a narrow field of view.
 double positionStdDev(const RefinementResult& result);
 
-/// Refines T_cur_ref (maps reference points into the current camera frame).
+/// A Gaussian prior on T_cur_ref (the constant-velocity prediction): standard deviations
+/// of a left perturbation's translation (m) and rotation (rad); 0 = no prior.
+struct MotionPrior {
+  Isometry T_cur_ref = Isometry::Identity();
+  double sigma_translation = 0;
+  double sigma_rotation = 0;
+};
+
+/// Refines T_cur_ref (maps reference points into the current camera frame). The prior,
+/// when given, joins the cost but not `information` (which measures what the points
+/// determine).
 RefinementResult refinePose(const std::vector<PointObservation>& observations,
                             const Isometry& T_cur_ref_initial, const PinholeCamera& camera,
-                            const RefinementOptions& options);
+                            const RefinementOptions& options, const MotionPrior& prior = {});
 
 }  // namespace gmc::vo
