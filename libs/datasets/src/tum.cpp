@@ -228,4 +228,18 @@ PinholeCamera cameraPreset(const std::string& name) {
   return c;
 }
 
+std::vector<StampedPose> baseTrajectory(const std::vector<StampedPose>& camera_trajectory,
+                                        const Isometry& T_base_camera) {
+  std::vector<StampedPose> base;
+  base.reserve(camera_trajectory.size());
+  for (const auto& p : camera_trajectory)
+    base.push_back({p.stamp, T_base_camera * p.pose * T_base_camera.inverse()});
+  return base;
+}
+
+void writeBaseTrajectory(const std::string& path, const std::vector<StampedPose>& camera_trajectory,
+                         const std::optional<Isometry>& T_base_camera) {
+  if (T_base_camera) writeTumTrajectory(path, baseTrajectory(camera_trajectory, *T_base_camera));
+}
+
 }  // namespace gmc::datasets

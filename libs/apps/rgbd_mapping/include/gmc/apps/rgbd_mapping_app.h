@@ -8,6 +8,7 @@
 #include "gmc/apps/app.h"
 #include "gmc/apps/pipeline_report.h"
 #include "gmc/datasets/frame.h"
+#include "gmc/datasets/rawlog_stream.h"
 #include "gmc/mapping/static_map.h"
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -79,6 +80,8 @@ struct PipelineConfig {
   OutputOptions output;
   mapping::StaticMapOptions map;
   PinholeCamera camera;  ///< from [Dataset] camera (TUM folders; rawlogs carry their own)
+  /// From [Filters] sensor_label: the camera the odometry tracks (single_camera).
+  datasets::SensorSelection sensors;
 };
 /// Throws cfg::ConfigError naming the file, section and key; also rejects sections that
 /// neither the apps nor the filters read.
@@ -99,6 +102,7 @@ class RgbdMappingApp : public App {
                         const cv::Mat& dynamic_mask, double max_range, PipelineReport& report) const;
 
   std::string config_path_, input_path_, out_dir_, masks_dir_;
+  bool print_config_ = false;  ///< --print-config: print the effective configuration, stop
   std::vector<std::string> overrides_;
   static std::atomic<bool> stop_requested_;
 };
