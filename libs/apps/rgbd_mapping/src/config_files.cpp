@@ -4,7 +4,9 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
+#include <sstream>
 
 #include "gmc/apps/app.h"
 #include "gmc/apps/rgbd_mapping_app.h"
@@ -38,6 +40,35 @@ std::string findConfig(const std::string& name_or_path) {
                  (searched.empty() ? "" : " (nor a shipped one in " + searched + ")"));
 }
 
+namespace {
+/// MRPT writes "key = value // comment"; config/default.ini's style is
+/// "key = value            ; comment", one blank line between sections.
+std::string asIniComments(const std::string& mrpt_text) {
+  std::istringstream in(mrpt_text);
+  std::ostringstream out;
+  std::string line;
+  bool blank = false;
+  while (std::getline(in, line)) {
+    if (line.find_first_not_of(" \t") == std::string::npos) {
+      blank = true;
+      continue;
+    }
+    if (blank && line[0] == '[') out << "\n";
+    blank = false;
+    const auto eq = line.find(" = ");
+    const auto comment = eq == std::string::npos ? std::string::npos : line.find(" // ", eq);
+    if (comment == std::string::npos) {
+      out << line << "\n";
+      continue;
+    }
+    std::string setting = line.substr(0, comment);
+    setting.erase(setting.find_last_not_of(' ') + 1);
+    out << std::left << std::setw(28) << setting << " ; " << line.substr(comment + 4) << "\n";
+  }
+  return out.str();
+}
+}  // namespace
+
 InvocationPaths invocationPaths(const std::vector<std::string>& positional,
                                 const std::string& config_option, bool print_config) {
   InvocationPaths p;
@@ -69,7 +100,7 @@ std::string effectiveConfigText(const std::string& config_path, const std::vecto
   filters::saveFilterSettings(ini, config_path, out);
   std::string text;
   out.getContent(text);
-  return "; effective configuration of " + config_path + "\n" + text;
+  return "; effective configuration of " + config_path + "\n" + asIniComments(text);
 }
 
 int printEffectiveConfig(const std::string& config_path, const std::vector<std::string>& overrides) {

@@ -46,7 +46,8 @@ int RawlogFilterApp::run() {
     try {
       if (!source->next(frame)) break;
     } catch (const datasets::FrameReadError& e) {
-      std::cerr << "gmc-rawlog-filter: warning: passing on unfiltered " << e.what() << "\n";
+      // Not filtered; a rawlog's object still passes on as it was read.
+      std::cerr << "gmc-rawlog-filter: warning: skipping " << e.what() << "\n";
       ++skipped;
       continue;
     }
@@ -64,7 +65,7 @@ int RawlogFilterApp::run() {
   }
   writer.close();
   std::printf("%s: %zu objects written; %zu RGB-D observations filtered, %zu dropped by the "
-              "chain, %zu unreadable passed on unfiltered\n",
+              "chain, %zu unreadable not filtered\n",
               output_.c_str(), writer.count(), read, dropped, skipped);
   return 0;
 }
