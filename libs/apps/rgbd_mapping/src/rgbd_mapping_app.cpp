@@ -235,7 +235,7 @@ int RgbdMappingApp::run() {
     if (!fs::is_directory(input_path_) || !fs::exists(gt_path)) gt_path.clear();
   }
   std::vector<datasets::StampedPose> groundtruth;
-  if (!gt_path.empty()) groundtruth = datasets::readTumTrajectory(gt_path);
+  if (!gt_path.empty()) groundtruth = datasets::readGroundTruth(gt_path, dataset.groundtruth_frame);
   if (dataset.anchor_to_groundtruth && groundtruth.empty())
     throw AppError(config_path_ + ": [Dataset] anchor_to_groundtruth needs a groundtruth file");
 

@@ -22,6 +22,7 @@ struct DatasetOptions {
   int max_frames = 0;          ///< 0 = all
   int first_frame = 0;
   std::string groundtruth;     ///< optional TUM file; "auto" = <input>/groundtruth.txt if present
+  std::string groundtruth_frame = "camera";  ///< or "bonn": marker-body poses, converted
   bool anchor_to_groundtruth = false;  ///< start the trajectory at the ground-truth pose
   int repeat = 1;              ///< play the input this many times (long-run tests); later
                                ///< passes get stamps shifted past the previous pass
@@ -36,6 +37,8 @@ struct DatasetOptions {
     v("max_frames", max_frames, 0, 100000000, "process at most this many frames (0 = all)");
     v("first_frame", first_frame, 0, 100000000, "skip this many frames first");
     v("groundtruth", groundtruth, "TUM ground truth file, 'auto', or empty");
+    v.choice("groundtruth_frame", groundtruth_frame, {"camera", "bonn"},
+             "what the ground truth gives poses of: camera (TUM) or bonn (marker body, converted)");
     v("anchor_to_groundtruth", anchor_to_groundtruth,
       "start the trajectory at the first ground-truth pose (maps comparable with ground truth)");
     v("repeat", repeat, 1, 1000000, "play the input this many times (stamps shifted per pass)");
