@@ -11,6 +11,7 @@
 #include "gmc/datasets/rawlog.h"
 #include "gmc/datasets/rawlog_stream.h"
 #include "gmc/datasets/tum.h"
+#include "gmc/datasets/undistort.h"
 
 namespace gmc::datasets {
 namespace fs = std::filesystem;
@@ -118,8 +119,9 @@ class RawlogSource : public RgbdSource {
 
 class TumFolderSource : public RgbdSource {
  public:
-  TumFolderSource(const std::string& dir, const PinholeCamera& camera)
+  TumFolderSource(const std::string& dir, const PinholeCamera& camera, const LensDistortion& distortion)
       : dir_(dir), camera_(camera), pairs_(pairTumFolder(dir).pairs) {
+    if (!distortion.none()) undistorter_.emplace(camera, distortion);
     if (pairs_.empty())
       throw InputError(dir + ": no RGB frame has a depth frame within 0.02 s");
   }
@@ -148,6 +150,7 @@ class TumFolderSource : public RgbdSource {
     frame.camera.width = frame.rgb.cols;
     frame.camera.height = frame.rgb.rows;
     frame.name = rgb.path;
+    if (undistorter_) undistorter_->apply(frame);
     return true;
   }
   size_t sizeHint() const override { return pairs_.size(); }
@@ -156,14 +159,15 @@ class TumFolderSource : public RgbdSource {
   std::string dir_;
   PinholeCamera camera_;
   std::vector<std::pair<TumListEntry, TumListEntry>> pairs_;
+  std::optional<Undistorter> undistorter_;
   size_t index_ = 0;
 };
 
 }  // namespace
 
 std::unique_ptr<RgbdSource> openRgbdSource(const std::string& path, const PinholeCamera& camera,
-                                           const SensorSelection& sensors) {
-  if (fs::is_directory(path)) return std::make_unique<TumFolderSource>(path, camera);
+                                           const SensorSelection& sensors, const LensDistortion& distortion) {
+  if (fs::is_directory(path)) return std::make_unique<TumFolderSource>(path, camera, distortion);
   if (!fs::exists(path)) throw InputError(path + ": no such file or folder");
   return std::make_unique<RawlogSource>(path, sensors);
 }

@@ -230,6 +230,12 @@ PinholeCamera cameraPreset(const std::string& name) {
   return c;
 }
 
+LensDistortion presetDistortion(const std::string& name) {
+  if (name == "fr1") return {0.2624, -0.9531, -0.0054, 0.0026, 1.1633};
+  if (name == "fr2") return {0.2312, -0.7849, -0.0033, -0.0001, 0.9172};
+  return {};
+}
+
 namespace {
 /// The Bonn dataset's published marker-to-camera transform, rotation made orthonormal
 /// (the nearest rotation in the Frobenius norm: U·Vᵀ of its SVD).

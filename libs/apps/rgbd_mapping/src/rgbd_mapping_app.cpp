@@ -170,6 +170,7 @@ PipelineConfig loadPipelineConfig(const mrpt::config::CConfigFileBase& ini, cons
   c.camera = cameraFromOptions(c.dataset);
   c.sensors.labels = datasets::splitList(filters::loadChainOptions(ini, source).sensor_label);
   c.sensors.single_camera = true;
+  if (c.dataset.undistort == "auto") c.distortion = datasets::presetDistortion(c.dataset.camera);
   return c;
 }
 
@@ -226,7 +227,7 @@ int RgbdMappingApp::run() {
   const mapping::StaticMapOptions& map_options = config.map;
   filters::FilterChain chain = filters::buildChain(ini, config_path_, {filters::kTracking});
   const gmc::PinholeCamera& camera = config.camera;
-  std::unique_ptr<datasets::RgbdSource> source = datasets::openRgbdSource(input_path_, camera, config.sensors);
+  std::unique_ptr<datasets::RgbdSource> source = datasets::openRgbdSource(input_path_, camera, config.sensors, config.distortion);
 
   // Ground truth, to anchor the first pose (maps comparable with a simulated scene).
   std::string gt_path = dataset.groundtruth;
@@ -286,7 +287,7 @@ int RgbdMappingApp::run() {
       ++pass;
       stamp_shift += last_stamp - pass_first_stamp + frame_interval;
       pass_first_stamp = -1;
-      source = datasets::openRgbdSource(input_path_, camera, config.sensors);
+      source = datasets::openRgbdSource(input_path_, camera, config.sensors, config.distortion);
       continue;
     }
     if (!have) break;

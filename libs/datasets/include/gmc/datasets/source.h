@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "gmc/datasets/camera.h"
 #include "gmc/datasets/frame.h"
 #include "gmc/datasets/rawlog_stream.h"
 
@@ -40,8 +41,11 @@ class RgbdSource {
 /// opened as a whole. Rawlogs in either format (observations; actions and sensory
 /// frames): the CObservation3DRangeScans that `sensors` selects become frames, in order;
 /// other objects are passed over (or to the object sink). A rawlog without any selected
-/// scan is an InputError when its end is reached.
+/// scan is an InputError when its end is reached. `distortion` (TUM folders): the lens
+/// distortion of `camera`, removed from every frame (see Undistorter); rawlog frames are
+/// used as recorded.
 std::unique_ptr<RgbdSource> openRgbdSource(const std::string& path, const PinholeCamera& camera,
-                                           const SensorSelection& sensors = {});
+                                           const SensorSelection& sensors = {},
+                                           const LensDistortion& distortion = {});
 
 }  // namespace gmc::datasets
