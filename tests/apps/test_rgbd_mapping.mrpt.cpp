@@ -5,6 +5,7 @@
 
 #include <mrpt/obs/CObservationIMU.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -153,12 +154,17 @@ TEST(RgbdMappingApp, RobotBaseTrajectoryOfAMountedCameraMatchesTheGroundTruth) {
   ASSERT_EQ(camera.size(), 30u);
   // Ground truth of the base, by hand: the camera slides along its x (right), which on a
   // base yawed by 0.3 rad is the direction (sin 0.3, -cos 0.3, 0); the base turns not.
+  double worst_position = 0, worst_angle = 0;
   for (size_t i = 0; i < base.size(); ++i) {
     const double s = gt[i].pose.translation().x() - gt[0].pose.translation().x();
     const Eigen::Vector3d expected(s * std::sin(0.3), -s * std::cos(0.3), 0.0);
-    EXPECT_LT((base[i].pose.translation() - expected).norm(), 0.01) << "frame " << i;
-    EXPECT_LT(Eigen::AngleAxisd(base[i].pose.linear()).angle(), 0.01) << "frame " << i;
+    worst_position = std::max(worst_position, (base[i].pose.translation() - expected).norm());
+    worst_angle = std::max(worst_angle, Eigen::AngleAxisd(base[i].pose.linear()).angle());
   }
+  std::printf("  mounted camera: base trajectory off the ground truth by at most %.4f m, %.4f rad\n",
+              worst_position, worst_angle);
+  EXPECT_LT(worst_position, 0.01);
+  EXPECT_LT(worst_angle, 0.01);
   EXPECT_NEAR(camera.back().pose.translation().x(), 0.29, 0.01) << "camera trajectory stays optical";
 }
 
