@@ -15,11 +15,11 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include <filesystem>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "gmc/datasets/rawlog.h"
+#include "random_frame.h"
 
 namespace gmc::testdata {
 
@@ -31,14 +31,7 @@ inline mrpt::obs::CObservation3DRangeScan::Ptr mountedScan(const std::string& la
                                                           const mrpt::poses::CPose3D& pose,
                                                           double stamp, unsigned seed,
                                                           const std::string& images_dir) {
-  std::mt19937 rng(seed);
-  gmc::datasets::RgbdFrame f;
-  f.stamp = stamp;
-  f.rgb.create(48, 64, CV_8UC3);
-  f.depth.create(48, 64, CV_16UC1);
-  cv::randu(f.rgb, 0, 255);
-  cv::randu(f.depth, 5000, 15000);
-  f.camera.fx = 60, f.camera.fy = 61, f.camera.cx = 31.5, f.camera.cy = 23.5;
+  const auto f = randomFrame(stamp, seed, 5000, 15000);
   auto scan = gmc::datasets::toObservation(f, label);
   scan->sensorPose = pose;
   const std::string name = label + "_" + std::to_string(seed) + ".png";
