@@ -53,8 +53,8 @@ std::string rawlogInfo(const std::string& path) {
 }
 
 /// Every object of `out` equals the one of `in` at the same place, except that the scans
-/// labelled `labelled` carry pixel labels (compared without them).
-void expectSameExceptLabels(const std::string& in, const std::string& out, const std::string& labelled) {
+/// labelled as in `labelled` carry pixel labels (compared without them).
+void expectSameExceptLabels(const std::string& in, const std::string& out, const std::set<std::string>& labelled) {
   const auto a = readAllObjects(in), b = readAllObjects(out);
   ASSERT_EQ(a.size(), b.size());
   size_t labelled_scans = 0;
@@ -62,7 +62,7 @@ void expectSameExceptLabels(const std::string& in, const std::string& out, const
     const auto scans_in = gmc::datasets::rgbdScansOf(a[i]), scans_out = gmc::datasets::rgbdScansOf(b[i]);
     ASSERT_EQ(scans_in.size(), scans_out.size());
     for (size_t k = 0; k < scans_out.size(); ++k) {
-      const bool selected = scans_out[k]->sensorLabel == labelled;
+      const bool selected = labelled.count(scans_out[k]->sensorLabel) > 0;
       EXPECT_EQ(scans_out[k]->hasPixelLabels(), selected) << "object " << i << " " << scans_out[k]->sensorLabel;
       labelled_scans += selected ? 1 : 0;
       if (selected) {
@@ -76,6 +76,14 @@ void expectSameExceptLabels(const std::string& in, const std::string& out, const
   EXPECT_GT(labelled_scans, 0u);
 }
 
+TEST(RawlogFilterApp, EveryCameraIsFilteredWhenNoLabelIsGiven) {
+  const auto root = gmc::testdata::scratchDir("filter_every_camera");
+  gmc::testdata::writeRobotRawlog(root + "/robot.rawlog", 3, true);
+  std::ofstream(root + "/f.ini") << "[Filters]\nchain = gmc\n";
+  ASSERT_EQ(runFilter({root + "/f.ini", root + "/robot.rawlog", root + "/out.rawlog"}), 0);
+  expectSameExceptLabels(root + "/robot.rawlog", root + "/out.rawlog", {"XTION_FRONT", "XTION_BACK"});
+}
+
 TEST(RawlogFilterApp, PassesEveryObjectOnUnchangedInBothRawlogFormats) {
   for (bool sf : {false, true}) {
     const auto root = gmc::testdata::scratchDir("filter_lossless");
@@ -84,7 +92,7 @@ TEST(RawlogFilterApp, PassesEveryObjectOnUnchangedInBothRawlogFormats) {
                                       "[Everything]\nmin_depth = 0\nmax_depth = 100\n";
     fs::create_directories(root + "/out");
     ASSERT_EQ(runFilter({root + "/f.ini", root + "/robot.rawlog", root + "/out/robot.rawlog"}), 0);
-    expectSameExceptLabels(root + "/robot.rawlog", root + "/out/robot.rawlog", "XTION_FRONT");
+    expectSameExceptLabels(root + "/robot.rawlog", root + "/out/robot.rawlog", {"XTION_FRONT"});
     for (const auto& image : fs::directory_iterator(root + "/robot_Images"))
       EXPECT_TRUE(fs::exists(root + "/out/robot_Images/" + image.path().filename().string())) << image.path();
     const std::string info = rawlogInfo(root + "/out/robot.rawlog");
@@ -100,7 +108,7 @@ TEST(RgbdMappingApp, FilteredRawlogPassesEveryObjectOn) {
                         "--set", "Output.filtered_rawlog=true", "--set", "Output.map=false",
                         "--set", "Filters.sensor_label=XTION_FRONT"}),
             0);
-  expectSameExceptLabels(root + "/robot.rawlog", root + "/out/filtered.rawlog", "XTION_FRONT");
+  expectSameExceptLabels(root + "/robot.rawlog", root + "/out/filtered.rawlog", {"XTION_FRONT"});
 }
 
 // Issue #18: a chain the odometry cannot use was found per frame, after the outputs were opened.
@@ -209,6 +217,11 @@ TEST(RgbdMappingApp, PrintConfigListsExactlyTheKeysDocumentedInDefaultIni) {
   for (const auto& k : printed) EXPECT_TRUE(documented.count(k)) << k << " is not documented in config/default.ini";
   for (const auto& k : documented) EXPECT_TRUE(printed.count(k)) << k << " is documented but not read";
   EXPECT_GT(printed.size(), 60u);
+  std::istringstream lines(gmc::apps::effectiveConfigText(GMC_SOURCE_DIR "/config/default.ini", {}));
+  for (std::string line; std::getline(lines, line);)  // every key with its comment
+    if (line.find(" = ") != std::string::npos) {
+      EXPECT_NE(line.find(" ; "), std::string::npos) << line;
+    }
   testing::internal::CaptureStdout();
   EXPECT_EQ(runMapping({"--print-config", "--config", "bonn", "--set", "GMC.grid_cols=16"}), 0);
   const std::string out = testing::internal::GetCapturedStdout();
