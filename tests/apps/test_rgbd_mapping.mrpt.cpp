@@ -109,6 +109,8 @@ TEST(RgbdMappingApp, FilteredRawlogPassesEveryObjectOn) {
                         "--set", "Filters.sensor_label=XTION_FRONT"}),
             0);
   expectSameExceptLabels(root + "/robot.rawlog", root + "/out/filtered.rawlog", {"XTION_FRONT"});
+  for (const auto& image : fs::directory_iterator(root + "/robot_Images"))
+    EXPECT_TRUE(fs::exists(root + "/out/filtered_Images/" + image.path().filename().string())) << image.path();
 }
 
 // Issue #18: a chain the odometry cannot use was found per frame, after the outputs were opened.
