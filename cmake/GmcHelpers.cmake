@@ -68,3 +68,16 @@ function(gmc_install_package)
   install(FILES ${PROJECT_BINARY_DIR}/GmcRgbdConfig.cmake
     ${PROJECT_BINARY_DIR}/GmcRgbdConfigVersion.cmake DESTINATION lib/cmake/GmcRgbd)
 endfunction()
+
+# share/gmc-rgbd/config: the shipped INI files (config/), installed and mirrored in the
+# build tree, so build/bin/<app> finds them the way an installed app does
+# (<bin>/../share/gmc-rgbd/config, see libs/apps/rgbd_mapping/include/gmc/apps/config_files.h).
+function(gmc_share_config)
+  file(GLOB_RECURSE _inis RELATIVE "${PROJECT_SOURCE_DIR}/config" "${PROJECT_SOURCE_DIR}/config/*.ini")
+  foreach(f IN LISTS _inis)
+    configure_file("${PROJECT_SOURCE_DIR}/config/${f}"
+                   "${PROJECT_BINARY_DIR}/share/gmc-rgbd/config/${f}" COPYONLY)
+  endforeach()
+  install(DIRECTORY "${PROJECT_SOURCE_DIR}/config/" DESTINATION share/gmc-rgbd/config
+          FILES_MATCHING PATTERN "*.ini")
+endfunction()

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "gmc/apps/eval_app.h"
+#include "gmc/datasets/tum.h"
 #include "run_app.h"
 #include "test_data.h"
 
@@ -37,12 +38,30 @@ TEST(EvalApp, BadArgumentsAndFilesFail) {
   EXPECT_EQ(runEval({}), 2);
   EXPECT_EQ(runEval({"--gt", "a"}), 2);
   EXPECT_EQ(runEval({"--gt", "a", "--est", "b", "--bogus", "c"}), 2);
+  EXPECT_EQ(runEval({"--gt", "a", "--est", "b", "--gt-frame", "body"}), 2);
   EXPECT_EQ(runEval({"--gt", "/nonexistent/gt.txt", "--est", "/nonexistent/est.txt"}), 1);
   const auto out = gmc::testdata::scratchDir("eval_app_bad");
   std::ofstream(out + "/gt.txt") << "1.0 0 0 0 0 0 0 1\n1.1 0 0 0 0 0 0 1\n1.2 0 0 0 0 0 0 1\n";
   std::ofstream(out + "/est.txt") << "5.0 0 0 0 0 0 0 1\n";
   EXPECT_EQ(runEval({"--gt", out + "/gt.txt", "--est", out + "/est.txt", "--json", out + "/x.json"}), 1);
   EXPECT_FALSE(std::filesystem::exists(out + "/x.json"));
+}
+
+// The Bonn window's ground truth converted to the camera frame: an estimate equal to the
+// converted poses scores zero with --gt-frame bonn and not without it.
+TEST(EvalApp, BonnGroundTruthFrame) {
+  GMC_REQUIRE_DATA(dir, "bonn_crowd_240_389");
+  const auto out = gmc::testdata::scratchDir("eval_app_bonn");
+  gmc::datasets::writeTumTrajectory(out + "/camera.txt",
+                                    gmc::datasets::readGroundTruth(dir + "/groundtruth.txt", "bonn"));
+  testing::internal::CaptureStdout();
+  EXPECT_EQ(runEval({"--gt", dir + "/groundtruth.txt", "--est", out + "/camera.txt", "--gt-frame", "bonn"}), 0);
+  EXPECT_EQ(runEval({"--gt", dir + "/groundtruth.txt", "--est", out + "/camera.txt"}), 0);
+  const std::string printed = testing::internal::GetCapturedStdout();
+  const auto first_rpe = printed.find("rot rmse ");
+  ASSERT_NE(first_rpe, std::string::npos) << printed;
+  EXPECT_LT(std::stod(printed.substr(first_rpe + 9)), 1e-3) << printed;
+  EXPECT_GT(std::stod(printed.substr(printed.find("rot rmse ", first_rpe + 1) + 9)), 3.0) << printed;
 }
 
 }  // namespace

@@ -21,6 +21,7 @@
 #include "gmc/datasets/evaluation.h"
 #include "run_app.h"
 #include "test_data.h"
+#include "wall_sequence.h"
 
 namespace {
 
@@ -30,39 +31,9 @@ int runMapping(std::vector<std::string> args) {
   return gmc::testdata::runApp<gmc::apps::RgbdMappingApp>("gmc-rgbd-mapping", std::move(args));
 }
 
-/// A TUM-layout sequence of a textured wall 2 m in front of a camera that slides 1 cm per
-/// frame along x (fr3 intrinsics): exact ground truth without the simulator.
-std::string makeWallSequence(const std::string& dir, int frames) {
-  fs::create_directories(dir + "/rgb");
-  fs::create_directories(dir + "/depth");
-  std::mt19937 rng(5);
-  cv::Mat texture(560, 900, CV_8UC3, cv::Scalar(120, 120, 120));
-  std::uniform_int_distribution<int> x(0, 880), y(0, 540), s(4, 28), c(0, 255);
-  for (int k = 0; k < 2500; ++k)
-    cv::rectangle(texture, cv::Rect(x(rng), y(rng), s(rng), s(rng)),
-                  cv::Scalar(c(rng), c(rng), c(rng)), cv::FILLED);
-  const double fx = 535.4, z = 2.0, step = 0.01;
-  std::ofstream rgb(dir + "/rgb.txt"), depth(dir + "/depth.txt"), gt(dir + "/groundtruth.txt");
-  const cv::Mat depth_img(480, 640, CV_16UC1, cv::Scalar(static_cast<int>(z * 5000)));
-  for (int i = 0; i < frames; ++i) {
-    const double shift = 20 + fx * step * i / z;  // camera +x: the wall moves left in the image
-    const cv::Mat M = (cv::Mat_<double>(2, 3) << 1, 0, -shift, 0, 1, -40);
-    cv::Mat view;
-    cv::warpAffine(texture, view, M, cv::Size(640, 480), cv::INTER_LINEAR);
-    char stamp[32];
-    std::snprintf(stamp, sizeof stamp, "%.6f", 1000.0 + i / 30.0);
-    cv::imwrite(dir + "/rgb/" + stamp + ".png", view);
-    cv::imwrite(dir + "/depth/" + stamp + ".png", depth_img);
-    rgb << stamp << " rgb/" << stamp << ".png\n";
-    depth << stamp << " depth/" << stamp << ".png\n";
-    gt << stamp << " " << step * i << " 0 0 0 0 0 1\n";
-  }
-  return dir;
-}
-
 TEST(RgbdMappingApp, WallSequenceEndToEnd) {
   const auto root = gmc::testdata::scratchDir("mapping_wall");
-  const auto seq = makeWallSequence(root + "/seq", 40);
+  const auto seq = gmc::testdata::makeWallSequence(root + "/seq", 40);
   const auto out = root + "/out";
   ASSERT_EQ(runMapping({GMC_SOURCE_DIR "/config/default.ini", seq, "--out", out, "--set",
                         "Dataset.anchor_to_groundtruth=true", "--set", "Output.overlay_every=20"}),
@@ -86,7 +57,7 @@ TEST(RgbdMappingApp, WallSequenceEndToEnd) {
 
 TEST(RgbdMappingApp, RepeatPlaysTheInputAgainWithLaterStampsAndLogsMemory) {
   const auto root = gmc::testdata::scratchDir("mapping_repeat");
-  const auto seq = makeWallSequence(root + "/seq", 12);
+  const auto seq = gmc::testdata::makeWallSequence(root + "/seq", 12);
   const auto out = root + "/out";
   ASSERT_EQ(runMapping({GMC_SOURCE_DIR "/config/default.ini", seq, "--out", out, "--set", "Dataset.repeat=3",
                         "--set", "Output.memory_every=4", "--set", "Output.map=false"}),
@@ -123,7 +94,7 @@ TEST(RgbdMappingApp, TeddyStaysAccurateWithGmc) {
 
 TEST(RgbdMappingApp, ConfigurationErrorsFailWithoutOutputs) {
   const auto root = gmc::testdata::scratchDir("mapping_bad");
-  const auto seq = makeWallSequence(root + "/seq", 3);
+  const auto seq = gmc::testdata::makeWallSequence(root + "/seq", 3);
   auto ini = [&](const std::string& name, const std::string& text) {
     std::ofstream(root + "/" + name) << text;
     return root + "/" + name;
@@ -140,7 +111,7 @@ TEST(RgbdMappingApp, ConfigurationErrorsFailWithoutOutputs) {
 
 TEST(RawlogFilterApp, WritesLabelledObservationsMrptReads) {
   const auto root = gmc::testdata::scratchDir("rawlog_filter");
-  const auto seq = makeWallSequence(root + "/seq", 6);
+  const auto seq = gmc::testdata::makeWallSequence(root + "/seq", 6);
   std::ofstream(root + "/f.ini") << "[Filters]\nchain = decimate, gmc\n[Decimate]\nkeep_every = 2\n";
   ASSERT_EQ(gmc::testdata::runApp<gmc::apps::RawlogFilterApp>("gmc-rawlog-filter",
                                                              {root + "/f.ini", seq, root + "/out.rawlog"}),

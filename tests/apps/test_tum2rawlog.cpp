@@ -33,7 +33,17 @@ void convertAndCheck(const std::string& dir, const char* preset, size_t expected
   const auto out = gmc::testdata::scratchDir(std::string("tum2rawlog_") + preset);
   const std::string rawlog = out + "/seq.rawlog";
   ASSERT_EQ(runConvert({dir, rawlog, "--camera", preset}), 0);
-  EXPECT_TRUE(fs::exists(out + "/seq_groundtruth.txt"));
+  ASSERT_TRUE(fs::exists(out + "/seq_groundtruth.txt"));
+  // The sibling ground truth is the camera's (Bonn's marker body converted): at a frame
+  // stamp it is the converted pose interpolated there.
+  const auto written = gmc::datasets::readTumTrajectory(out + "/seq_groundtruth.txt");
+  const auto camera = gmc::datasets::readGroundTruth(dir + "/groundtruth.txt",
+                                                     std::string(preset) == "bonn" ? "bonn" : "camera");
+  ASSERT_FALSE(written.empty());
+  const auto expected_pose = gmc::datasets::interpolatePose(camera, written.front().stamp);
+  ASSERT_TRUE(expected_pose.has_value());
+  EXPECT_LT((written.front().pose.translation() - expected_pose->translation()).norm(), 1e-6);
+  EXPECT_LT(Eigen::AngleAxisd(written.front().pose.linear().transpose() * expected_pose->linear()).angle(), 1e-6);
 
   // MRPT's own tool reads it.
   if (fs::exists("/usr/bin/rawlog-edit")) {

@@ -1,7 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <opencv2/core.hpp>
 
+#include <cstdio>
 #include <limits>
 #include <random>
 
@@ -111,6 +114,47 @@ TEST(Plot, NonFiniteErrorsAndFarApartStampsAreDrawnWithoutFailing) {
   const cv::Mat img = plotTrajectory(ate, "t");
   EXPECT_EQ(img.type(), CV_8UC3);
   EXPECT_FALSE(img.empty());
+}
+
+TEST(BonnGroundTruth, MarkerBodyPoseBecomesTheCameraPoseAsPublished) {
+  // By hand: T_ros · T_gt · T_ros for a pure translation (1, 2, 3) is the translation
+  // T_ros·(1, 2, 3) = (-1, 3, 2) (T_ros is its own inverse); times T_m it adds T_m's
+  // translation and takes T_m's rotation.
+  gmc::Isometry body = gmc::Isometry::Identity();
+  body.translation() = Eigen::Vector3d(1, 2, 3);
+  const auto camera = gmc::datasets::bonnBodyToCamera({{5.0, body}});
+  ASSERT_EQ(camera.size(), 1u);
+  EXPECT_EQ(camera[0].stamp, 5.0);
+  EXPECT_LT((camera[0].pose.translation() - Eigen::Vector3d(-1 + 0.0113, 3 - 0.0098, 2 + 0.0111)).norm(), 1e-12);
+  // The rotation is the nearest one to the published block: orthonormal, det +1, and the
+  // block is that rotation times a symmetric positive-definite stretch (polar decomposition).
+  const Eigen::Matrix3d r = camera[0].pose.linear();
+  EXPECT_LT((r.transpose() * r - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+  EXPECT_NEAR(r.determinant(), 1.0, 1e-12);
+  Eigen::Matrix3d m;
+  m << 1.0157, 0.1828, -0.2389, 0.0009, -0.8431, -0.6413, -0.3009, 0.6147, -0.8085;
+  const Eigen::Matrix3d stretch = r.transpose() * m;
+  EXPECT_LT((stretch - stretch.transpose()).norm(), 1e-9);
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(stretch).eigenvalues().minCoeff(), 0.0);
+  EXPECT_LT((r - m).norm(), 0.15) << "close to the published block (stretched by up to 6 %)";
+}
+
+TEST(BonnGroundTruth, RpeOnTheSharedWindowUsesTheCameraFrame) {
+  GMC_REQUIRE_DATA(dir, "bonn_crowd_240_389");
+  const auto body = gmc::datasets::readGroundTruth(dir + "/groundtruth.txt", "camera");
+  const auto camera = gmc::datasets::readGroundTruth(dir + "/groundtruth.txt", "bonn");
+  ASSERT_EQ(body.size(), camera.size());
+  // The same motion seen from two frames: relative rotation angles agree, positions move
+  // by the ~2 cm lever arm only (after each trajectory's rigid alignment).
+  const auto ate = gmc::datasets::computeAte(camera, body);
+  EXPECT_LT(ate.error.rmse, 0.03);
+  // Relative rotations are the same angles about other axes: compared across the two
+  // frames they differ (what made the body-frame RPE meaningless), by several degrees.
+  const auto rpe = gmc::datasets::computeRpe(camera, body);
+  std::printf("  Bonn window, body vs camera frame: ATE %.4f m, RPE 1 s rotation %.2f deg\n", ate.error.rmse,
+              rpe.rotation.rmse);
+  EXPECT_GT(rpe.rotation.rmse, 3.0);
+  EXPECT_THROW(gmc::datasets::readGroundTruth(dir + "/groundtruth.txt", "body"), std::invalid_argument);
 }
 
 }  // namespace

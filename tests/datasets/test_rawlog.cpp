@@ -21,6 +21,7 @@
 #include "gmc/datasets/rawlog.h"
 #include "gmc/datasets/source.h"
 #include "gmc/datasets/tum.h"
+#include "random_frame.h"
 #include "test_data.h"
 #include "wrong_class_rawlog.h"
 
@@ -29,18 +30,7 @@ namespace {
 using namespace gmc::datasets;
 namespace fs = std::filesystem;
 
-RgbdFrame randomFrame(double stamp, unsigned seed) {
-  std::mt19937 rng(seed);
-  RgbdFrame f;
-  f.stamp = stamp;
-  f.rgb.create(48, 64, CV_8UC3);
-  f.depth.create(48, 64, CV_16UC1);
-  cv::randu(f.rgb, 0, 255);
-  cv::randu(f.depth, 0, 30000);
-  f.camera.fx = 60, f.camera.fy = 61, f.camera.cx = 31.5, f.camera.cy = 23.5;
-  f.camera.width = 64, f.camera.height = 48;
-  return f;
-}
+using gmc::testdata::randomFrame;
 
 void expectSame(const RgbdFrame& a, const RgbdFrame& b) {
   EXPECT_NEAR(a.stamp, b.stamp, 1e-6);  // microseconds

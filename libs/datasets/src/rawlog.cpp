@@ -2,6 +2,9 @@
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/obs/CObservationImage.h>
+#include <mrpt/obs/CObservationStereoImages.h>
+#include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 #include <opencv2/imgproc.hpp>
 
@@ -114,13 +117,17 @@ RgbdFrame fromObservation(const mrpt::obs::CObservation3DRangeScan& obs) {
   return f;
 }
 
+mrpt::obs::CObservation3DRangeScan::Ptr observationOf(const RgbdFrame& frame) {
+  if (frame.observation && mrpt::Clock::toDouble(frame.observation->timestamp) == frame.stamp)
+    return frame.observation;
+  return toObservation(frame, frame.sensor_label.empty() ? "RGBD" : frame.sensor_label);
+}
+
 RawlogWriter::RawlogWriter(const std::string& path, bool externalize_images)
     : path_(path), externalize_(externalize_images), file_(path) {
-  if (externalize_) {
-    const fs::path p(path);
-    images_dir_ = (p.parent_path() / (p.stem().string() + "_Images")).string();
-    created_images_dir_ = fs::create_directories(images_dir_);
-  }
+  const fs::path p(path);
+  images_dir_ = (p.parent_path() / (p.stem().string() + "_Images")).string();
+  if (externalize_) ensureImagesDir();
   out_ = std::make_unique<mrpt::io::CFileGZOutputStream>();
   if (!out_->open(file_.tempPath(), 1))
     throw std::runtime_error(path + ": cannot create rawlog");
@@ -133,6 +140,10 @@ RawlogWriter::~RawlogWriter() {
   if (created_images_dir_) fs::remove_all(images_dir_, ec);
 }
 
+void RawlogWriter::ensureImagesDir() {
+  if (!fs::is_directory(images_dir_)) created_images_dir_ = fs::create_directories(images_dir_);
+}
+
 void RawlogWriter::write(const RgbdFrame& frame, const std::string& sensor_label) {
   auto obs = toObservation(frame, sensor_label);
   write(*obs);
@@ -140,6 +151,8 @@ void RawlogWriter::write(const RgbdFrame& frame, const std::string& sensor_label
 
 void RawlogWriter::write(mrpt::obs::CObservation3DRangeScan& obs) {
   if (!out_) throw std::runtime_error(path_ + ": rawlog already closed");
+  const size_t queued = queuedIndexOf(obs);
+  if (queued < queue_.size()) return flushBefore(queued);
   if (externalize_ && obs.hasIntensityImage && !obs.intensityImage.isExternallyStored()) {
     char name[64];
     std::snprintf(name, sizeof name, "%s_%.6f.png", obs.sensorLabel.c_str(),
@@ -148,13 +161,90 @@ void RawlogWriter::write(mrpt::obs::CObservation3DRangeScan& obs) {
       throw std::runtime_error(images_dir_ + "/" + name + ": cannot write image");
     obs.intensityImage.setExternalStorage(name);
   }
+  writeObject(obs);
+}
+
+void RawlogWriter::drop(const mrpt::obs::CObservation3DRangeScan& obs) {
+  const size_t queued = queuedIndexOf(obs);
+  if (queued == queue_.size()) return;
+  auto& entry = queue_[queued];
+  if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(entry.object)) {
+    for (auto it = sf->begin(); it != sf->end(); ++it)
+      if (it->get() == &obs) {
+        sf->erase(it);
+        break;
+      }
+  } else {
+    entry.dropped = true;
+  }
+  flushBefore(queued);
+}
+
+void RawlogWriter::objectRead(const mrpt::serialization::CSerializable::Ptr& object) {
+  if (!out_) throw std::runtime_error(path_ + ": rawlog already closed");
+  queue_.push_back({object});
+}
+
+size_t RawlogWriter::queuedIndexOf(const mrpt::obs::CObservation3DRangeScan& obs) const {
+  for (size_t i = 0; i < queue_.size(); ++i)
+    for (const auto& scan : rgbdScansOf(queue_[i].object))
+      if (scan.get() == &obs) return i;
+  return queue_.size();
+}
+
+void RawlogWriter::flushBefore(size_t index) {
+  for (size_t i = 0; i < index && !queue_.empty(); ++i) {
+    const Queued entry = std::move(queue_.front());
+    queue_.pop_front();
+    if (entry.dropped || !entry.object) continue;
+    copyExternalImages(entry.object);
+    writeObject(*entry.object);
+  }
+}
+
+void RawlogWriter::writeObject(const mrpt::serialization::CSerializable& object) {
   auto archive = mrpt::serialization::archiveFrom(*out_);
-  archive << obs;
+  archive << object;
   ++count_;
+}
+
+namespace {
+/// The images an observation may keep in files of its own.
+std::vector<const mrpt::img::CImage*> imagesOf(const mrpt::obs::CObservation& obs) {
+  if (auto* scan = dynamic_cast<const mrpt::obs::CObservation3DRangeScan*>(&obs))
+    return {&scan->intensityImage, &scan->confidenceImage};
+  if (auto* image = dynamic_cast<const mrpt::obs::CObservationImage*>(&obs)) return {&image->image};
+  if (auto* stereo = dynamic_cast<const mrpt::obs::CObservationStereoImages*>(&obs))
+    return {&stereo->imageLeft, &stereo->imageRight, &stereo->imageDisparity};
+  return {};
+}
+}  // namespace
+
+void RawlogWriter::copyExternalImages(const mrpt::serialization::CSerializable::Ptr& object) {
+  std::vector<mrpt::obs::CObservation::Ptr> observations;
+  if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(object))
+    observations.assign(sf->begin(), sf->end());
+  else if (auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(object))
+    observations.push_back(obs);
+  for (const auto& obs : observations) {
+    if (!obs) continue;
+    for (const auto* image : imagesOf(*obs)) {
+      if (!image->isExternallyStored()) continue;
+      const fs::path relative = image->getExternalStorageFile();
+      if (relative.is_absolute()) continue;  // found wherever this rawlog goes
+      const fs::path from = image->getExternalStorageFileAbsolutePath();
+      const fs::path to = fs::path(images_dir_) / relative;
+      if (fs::exists(to) || !fs::exists(from)) continue;  // a missing file stays missing
+      ensureImagesDir();
+      fs::create_directories(to.parent_path());
+      fs::copy_file(from, to);
+    }
+  }
 }
 
 void RawlogWriter::close() {
   if (!out_) return;
+  flushBefore(queue_.size());
   out_->close();
   out_.reset();
   file_.commit();

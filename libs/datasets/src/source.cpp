@@ -1,134 +1,127 @@
 #include "gmc/datasets/source.h"
 
 #include <mrpt/img/CImage.h>
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/serialization/CArchive.h>
 #include <opencv2/imgcodecs.hpp>
 
-#include <cstdio>
-#include <cstdlib>
+#include <algorithm>
 #include <filesystem>
-#include <mutex>
 
 #include "gmc/datasets/rawlog.h"
+#include "gmc/datasets/rawlog_stream.h"
 #include "gmc/datasets/tum.h"
+#include "gmc/datasets/undistort.h"
 
 namespace gmc::datasets {
 namespace fs = std::filesystem;
 namespace {
 
-// MRPT decodes JPEG-compressed images (CImage serialised with JPEG) with libjpeg's default
-// error handler, which calls exit(1) on corrupt data: such an object ends the process from
-// inside MRPT, and no exception reaches us. While an object is being deserialised this
-// names it, so the process still ends with one line naming the file and object. A fixed
-// buffer, not a std::string: it must outlive static destructors.
-char g_reading_object[1024];
-
-void reportExitWhileReading() {
-  if (g_reading_object[0])
-    std::fprintf(stderr,
-                 "error: %s: corrupt object; MRPT ended the process while decoding it "
-                 "(its JPEG decoder exits on bad data)\n",
-                 g_reading_object);
+/// CObservation3DRangeScan's own frame is +X forward, +Y left, +Z up (its sensorPose is
+/// given for that frame); ours is the optical frame (x right, y down, z forward).
+Isometry mrptCameraFromOptical() {
+  Isometry T = Isometry::Identity();
+  T.linear() << 0, 0, 1,  //
+      -1, 0, 0,           //
+      0, -1, 0;
+  return T;
 }
 
-class ReadingObjectGuard {
- public:
-  ReadingObjectGuard(const std::string& path, size_t object) {
-    static std::once_flag registered;
-    std::call_once(registered, [] { std::atexit(reportExitWhileReading); });
-    std::snprintf(g_reading_object, sizeof g_reading_object, "%s: object %zu", path.c_str(), object);
-  }
-  ~ReadingObjectGuard() { g_reading_object[0] = '\0'; }
-  ReadingObjectGuard(const ReadingObjectGuard&) = delete;
-  ReadingObjectGuard& operator=(const ReadingObjectGuard&) = delete;
-};
+/// T_base_camera (optical) of a scan mounted with a sensorPose other than the identity.
+std::optional<Isometry> baseCameraOf(const mrpt::obs::CObservation3DRangeScan& scan) {
+  const auto& p = scan.sensorPose;
+  if (p == mrpt::poses::CPose3D()) return std::nullopt;
+  Isometry T_base_mrpt = Isometry::Identity();
+  T_base_mrpt.matrix() = p.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen();
+  return T_base_mrpt * mrptCameraFromOptical();
+}
 
 class RawlogSource : public RgbdSource {
  public:
-  explicit RawlogSource(const std::string& path) : path_(path) {
-    if (!fs::is_regular_file(path)) throw InputError(path + ": no such rawlog file");
-    if (!in_.open(path)) throw InputError(path + ": cannot open rawlog");
-    // Externalized images live in "<name>_Images" next to the rawlog (MRPT's
-    // CRawlog::detectImagesDirectory builds a different path, so set it here).
-    const fs::path p(path);
-    mrpt::img::CImage::setImagesPathBase((p.parent_path() / (p.stem().string() + "_Images")).string());
-  }
+  RawlogSource(const std::string& path, SensorSelection sensors)
+      : reader_(path), selector_(sensors), labels_(sensors.labels) {}
+
+  void setObjectSink(RawlogObjectSink* sink) override { sink_ = sink; }
 
   bool next(RgbdFrame& frame) override {
-    // One object at a time rather than CRawlog::getActionObservationPairOrObservation():
-    // that one prints and swallows every read error, so a truncated file looked complete.
-    // Both rawlog formats are covered: bare observations, and (actions, sensory frame) pairs.
-    auto archive = mrpt::serialization::archiveFrom(in_);
-    while (true) {
-      const size_t object = objects_;
-      const uint64_t start = in_.getPosition();
+    while (pending_.empty()) {
       mrpt::serialization::CSerializable::Ptr obj;
-      try {
-        const ReadingObjectGuard guard(path_, object);
-        archive >> obj;
-      } catch (const mrpt::serialization::CExceptionEOF& e) {
-        if (in_.getPosition() != start) throw corrupt(object, e);  // cut inside the object
-        return atEnd();
-      } catch (const std::exception& e) {
-        // Truncated or corrupt: the stream position is lost and nothing after it can be
-        // trusted, so the file cannot be read as a whole (std::bad_alloc lands here too,
-        // when a corrupt size field asks MRPT for an absurd buffer).
-        throw corrupt(object, e);
-      }
-      ++objects_;
-      mrpt::obs::CObservation3DRangeScan::Ptr scan;
-      if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)) {
-        for (const auto& o : *sf) {
-          if (!scan) scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o);
-          if (o && !std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(o))
-            noteOtherClass(o->GetRuntimeClass()->className);
-        }
-      } else if (!std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj)) {
-        scan = std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(obj);
-        if (!scan && obj) noteOtherClass(obj->GetRuntimeClass()->className);
-      }
-      if (!scan) continue;  // actions, odometry, other sensors: not ours
-      seen_rgbd_ = true;
-      try {
-        frame = fromObservation(*scan);
-      } catch (const std::exception& e) {
-        throw FrameReadError(path_ + "#" + std::to_string(object) + ": " + firstLine(e.what()));
-      }
-      frame.name = path_ + "#" + std::to_string(object);
-      return true;
+      if (!reader_.next(obj)) return atEnd();
+      if (sink_) sink_->objectRead(obj);
+      const size_t object = reader_.objectsRead() - 1;
+      noteClasses(obj);
+      for (const auto& scan : rgbdScansOf(obj))
+        if (selector_.selects(scan->sensorLabel)) pending_.push_back({scan, object});
     }
+    const auto [scan, object] = pending_.front();
+    pending_.erase(pending_.begin());
+    seen_rgbd_ = true;
+    const std::string name = reader_.path() + "#" + std::to_string(object);
+    try {
+      frame = fromObservation(*scan);
+    } catch (const std::exception& e) {
+      throw FrameReadError(name + ": " + firstLine(e.what()));
+    }
+    frame.name = name;
+    frame.sensor_label = scan->sensorLabel;
+    frame.base_camera = baseCameraOf(*scan);
+    frame.observation = scan;
+    base_camera_ = frame.base_camera;
+    return true;
   }
   size_t sizeHint() const override { return 0; }
 
  private:
   static std::string firstLine(const std::string& s) { return s.substr(0, s.find('\n')); }
-  InputError corrupt(size_t object, const std::exception& e) const {
-    return InputError(path_ + ": object " + std::to_string(object) +
-                      ": truncated or corrupt rawlog (" + firstLine(e.what()) + ")");
-  }
   bool atEnd() const {
     if (seen_rgbd_) return false;
-    if (other_classes_.empty()) throw InputError(path_ + ": empty rawlog (no observation)");
-    throw InputError(path_ + ": no CObservation3DRangeScan in the rawlog (found " + other_classes_ + ")");
+    const std::string& path = reader_.path();
+    if (!any_observation_) throw InputError(path + ": empty rawlog (no observation)");
+    if (!labels_.empty() && !scan_labels_.empty())
+      throw InputError(path + ": no CObservation3DRangeScan labelled " + joined(labels_) +
+                       " (the rawlog's RGB-D sensors: " + joined(scan_labels_) + ")");
+    throw InputError(path + ": no CObservation3DRangeScan in the rawlog (found " + joined(classes_) + ")");
   }
-  void noteOtherClass(const std::string& name) {
-    if (other_classes_.find(name) == std::string::npos)
-      other_classes_ += (other_classes_.empty() ? "" : ", ") + name;
+  /// Classes and RGB-D labels met, for the message when nothing was selected.
+  void noteClasses(const mrpt::serialization::CSerializable::Ptr& obj) {
+    auto note = [](std::vector<std::string>& list, const std::string& name) {
+      if (std::find(list.begin(), list.end(), name) == list.end()) list.push_back(name);
+    };
+    std::vector<mrpt::serialization::CSerializable::Ptr> members;
+    if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj))
+      members.assign(sf->begin(), sf->end());
+    else if (obj && !std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj))
+      members.push_back(obj);
+    any_observation_ = any_observation_ || !members.empty();
+    for (const auto& m : members)
+      if (m && !std::dynamic_pointer_cast<mrpt::obs::CObservation3DRangeScan>(m))
+        note(classes_, m->GetRuntimeClass()->className);
+    for (const auto& scan : rgbdScansOf(obj)) note(scan_labels_, "'" + scan->sensorLabel + "'");
   }
-  std::string path_;
-  mrpt::io::CFileGZInputStream in_;
-  size_t objects_ = 0;  ///< objects read so far (the index in messages)
-  bool seen_rgbd_ = false;
-  std::string other_classes_;  ///< classes of the observations skipped, for the error
+  static std::string joined(const std::vector<std::string>& items) {
+    std::string out;
+    for (const auto& i : items) out += (out.empty() ? "" : ", ") + i;
+    return out;
+  }
+
+  struct Pending {
+    mrpt::obs::CObservation3DRangeScan::Ptr scan;
+    size_t object;
+  };
+  RawlogReader reader_;
+  SensorSelector selector_;
+  std::vector<std::string> labels_;  ///< as configured, for messages
+  RawlogObjectSink* sink_ = nullptr;
+  std::vector<Pending> pending_;     ///< selected scans of the last object not yet returned
+  bool seen_rgbd_ = false, any_observation_ = false;
+  std::vector<std::string> classes_, scan_labels_;
 };
 
 class TumFolderSource : public RgbdSource {
  public:
-  TumFolderSource(const std::string& dir, const PinholeCamera& camera)
+  TumFolderSource(const std::string& dir, const PinholeCamera& camera, const LensDistortion& distortion)
       : dir_(dir), camera_(camera), pairs_(pairTumFolder(dir).pairs) {
+    if (!distortion.none()) undistorter_.emplace(camera, distortion);
     if (pairs_.empty())
       throw InputError(dir + ": no RGB frame has a depth frame within 0.02 s");
   }
@@ -157,6 +150,7 @@ class TumFolderSource : public RgbdSource {
     frame.camera.width = frame.rgb.cols;
     frame.camera.height = frame.rgb.rows;
     frame.name = rgb.path;
+    if (undistorter_) undistorter_->apply(frame);
     return true;
   }
   size_t sizeHint() const override { return pairs_.size(); }
@@ -165,15 +159,17 @@ class TumFolderSource : public RgbdSource {
   std::string dir_;
   PinholeCamera camera_;
   std::vector<std::pair<TumListEntry, TumListEntry>> pairs_;
+  std::optional<Undistorter> undistorter_;
   size_t index_ = 0;
 };
 
 }  // namespace
 
-std::unique_ptr<RgbdSource> openRgbdSource(const std::string& path, const PinholeCamera& camera) {
-  if (fs::is_directory(path)) return std::make_unique<TumFolderSource>(path, camera);
+std::unique_ptr<RgbdSource> openRgbdSource(const std::string& path, const PinholeCamera& camera,
+                                           const SensorSelection& sensors, const LensDistortion& distortion) {
+  if (fs::is_directory(path)) return std::make_unique<TumFolderSource>(path, camera, distortion);
   if (!fs::exists(path)) throw InputError(path + ": no such file or folder");
-  return std::make_unique<RawlogSource>(path);
+  return std::make_unique<RawlogSource>(path, sensors);
 }
 
 }  // namespace gmc::datasets

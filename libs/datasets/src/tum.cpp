@@ -1,5 +1,7 @@
 #include "gmc/datasets/tum.h"
 
+#include <Eigen/SVD>
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -226,6 +228,67 @@ PinholeCamera cameraPreset(const std::string& name) {
     c.fx = v[0], c.fy = v[1], c.cx = v[2], c.cy = v[3];
   }
   return c;
+}
+
+LensDistortion presetDistortion(const std::string& name) {
+  if (name == "fr1") return {0.2624, -0.9531, -0.0054, 0.0026, 1.1633};
+  if (name == "fr2") return {0.2312, -0.7849, -0.0033, -0.0001, 0.9172};
+  return {};
+}
+
+namespace {
+/// The Bonn dataset's published marker-to-camera transform, rotation made orthonormal
+/// (the nearest rotation in the Frobenius norm: U·Vᵀ of its SVD).
+Isometry bonnMarkerToCamera() {
+  Eigen::Matrix4d m;
+  m << 1.0157, 0.1828, -0.2389, 0.0113,  //
+      0.0009, -0.8431, -0.6413, -0.0098,  //
+      -0.3009, 0.6147, -0.8085, 0.0111,   //
+      0, 0, 0, 1;
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(m.topLeftCorner<3, 3>(), Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d r = svd.matrixU() * svd.matrixV().transpose();
+  if (r.determinant() < 0) {
+    Eigen::Matrix3d u = svd.matrixU();
+    u.col(2) *= -1;
+    r = u * svd.matrixV().transpose();
+  }
+  Isometry t = Isometry::Identity();
+  t.linear() = r;
+  t.translation() = m.topRightCorner<3, 1>();
+  return t;
+}
+}  // namespace
+
+std::vector<StampedPose> bonnBodyToCamera(const std::vector<StampedPose>& body_poses) {
+  Isometry ros = Isometry::Identity();
+  ros.linear() << -1, 0, 0,  //
+      0, 0, 1,               //
+      0, 1, 0;
+  const Isometry marker = bonnMarkerToCamera();
+  std::vector<StampedPose> camera;
+  camera.reserve(body_poses.size());
+  for (const auto& p : body_poses) camera.push_back({p.stamp, ros * p.pose * ros * marker});
+  return camera;
+}
+
+std::vector<StampedPose> readGroundTruth(const std::string& path, const std::string& frame) {
+  if (frame == "camera") return readTumTrajectory(path);
+  if (frame == "bonn") return bonnBodyToCamera(readTumTrajectory(path));
+  throw std::invalid_argument("ground-truth frame '" + frame + "' is not camera or bonn");
+}
+
+std::vector<StampedPose> baseTrajectory(const std::vector<StampedPose>& camera_trajectory,
+                                        const Isometry& T_base_camera) {
+  std::vector<StampedPose> base;
+  base.reserve(camera_trajectory.size());
+  for (const auto& p : camera_trajectory)
+    base.push_back({p.stamp, T_base_camera * p.pose * T_base_camera.inverse()});
+  return base;
+}
+
+void writeBaseTrajectory(const std::string& path, const std::vector<StampedPose>& camera_trajectory,
+                         const std::optional<Isometry>& T_base_camera) {
+  if (T_base_camera) writeTumTrajectory(path, baseTrajectory(camera_trajectory, *T_base_camera));
 }
 
 }  // namespace gmc::datasets

@@ -3,22 +3,19 @@
 #include <opencv2/imgproc.hpp>
 
 #include <chrono>
-#include <functional>
-#include <map>
-#include <sstream>
+#include <algorithm>
 #include <stdexcept>
 
 #include "gmc/config/ini.h"
 #include "gmc/datasets/rawlog.h"
+#include "gmc/datasets/rawlog_stream.h"
 #include "gmc/filters/gmc_filter.h"
 
 namespace gmc::filters {
 namespace {
 
-using Factory = std::function<std::unique_ptr<ObservationFilter>()>;
-
-const std::map<std::string, Factory>& registry() {
-  static const std::map<std::string, Factory> r = {
+std::map<std::string, FilterFactory>& registry() {
+  static std::map<std::string, FilterFactory> r = {
       {"gmc", [] { return std::make_unique<GmcFilter>(); }},
       {"depth_range", [] { return std::make_unique<DepthRangeFilter>(); }},
       {"decimate", [] { return std::make_unique<DecimateFilter>(); }},
@@ -26,26 +23,65 @@ const std::map<std::string, Factory>& registry() {
   return r;
 }
 
-/// [Filters] section: only the chain list.
-struct ChainOptions {
-  std::string chain = "gmc";
-  template <class V>
-  void visit(V& v) { v("chain", chain, "comma-separated filters, applied left to right"); }
+/// One chain entry: "name" or "name@Section".
+struct ChainEntry {
+  std::string text, name, section;  ///< section empty = the filter's default
 };
 
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    const auto b = item.find_first_not_of(" \t");
-    const auto e = item.find_last_not_of(" \t");
-    if (b != std::string::npos) out.push_back(item.substr(b, e - b + 1));
+std::vector<ChainEntry> chainEntries(const ChainOptions& options, const std::string& source) {
+  std::vector<ChainEntry> entries;
+  for (const auto& text : datasets::splitList(options.chain)) {
+    const auto at = text.find('@');
+    ChainEntry e{text, text.substr(0, at), at == std::string::npos ? "" : text.substr(at + 1)};
+    if (e.name.empty() || (at != std::string::npos && e.section.empty()))
+      throw cfg::ConfigError(source + ": [Filters] chain: '" + text + "' is not 'name' or 'name@Section'");
+    entries.push_back(e);
   }
-  return out;
+  return entries;
+}
+
+std::unique_ptr<ObservationFilter> createEntry(const ChainEntry& entry, const std::string& source) {
+  try {
+    return createFilter(entry.name);
+  } catch (const std::invalid_argument& e) {
+    throw cfg::ConfigError(source + ": [Filters] chain: " + e.what());
+  }
+}
+
+bool contains(const std::vector<std::string>& list, const std::string& item) {
+  return std::find(list.begin(), list.end(), item) != list.end();
+}
+
+/// Each filter's needs come from an earlier filter; the chain gives what the caller needs.
+void checkChain(const FilterChain& chain, const std::vector<ChainEntry>& entries,
+                const std::vector<std::string>& required, const std::string& source) {
+  std::vector<std::string> provided;
+  for (size_t i = 0; i < chain.size(); ++i) {
+    for (const auto& need : chain[i]->needs())
+      if (!contains(provided, need))
+        throw cfg::ConfigError(source + ": [Filters] chain: '" + entries[i].text + "' needs '" +
+                               need + "' from a filter before it");
+    for (const auto& p : chain[i]->provides()) provided.push_back(p);
+  }
+  for (const auto& need : required) {
+    if (contains(provided, need)) continue;
+    std::string providers;
+    for (const auto& name : availableFilters())
+      if (contains(createFilter(name)->provides(), need)) providers += (providers.empty() ? "" : ", ") + name;
+    throw cfg::ConfigError(source + ": [Filters] chain must contain a filter that provides '" +
+                           need + "' (" + providers + ")");
+  }
 }
 
 }  // namespace
+
+bool registerFilter(const std::string& name, FilterFactory factory) {
+  if (name.empty() || name.find_first_of("@, \t") != std::string::npos)
+    throw std::invalid_argument("filter name '" + name + "' must be one word");
+  if (!registry().emplace(name, std::move(factory)).second)
+    throw std::invalid_argument("filter '" + name + "' is already registered");
+  return true;
+}
 
 std::vector<std::string> availableFilters() {
   std::vector<std::string> names;
@@ -63,21 +99,53 @@ std::unique_ptr<ObservationFilter> createFilter(const std::string& name) {
   return it->second();
 }
 
-FilterChain buildChain(const mrpt::config::CConfigFileBase& ini, const std::string& source) {
+ChainOptions loadChainOptions(const mrpt::config::CConfigFileBase& ini, const std::string& source) {
   ChainOptions options;
   cfg::loadSection(ini, "Filters", options, source);
+  return options;
+}
+
+FilterChain buildChain(const mrpt::config::CConfigFileBase& ini, const std::string& source,
+                       const std::vector<std::string>& required) {
+  const auto entries = chainEntries(loadChainOptions(ini, source), source);
   FilterChain chain;
-  for (const auto& name : splitList(options.chain)) {
-    std::unique_ptr<ObservationFilter> f;
-    try {
-      f = createFilter(name);
-    } catch (const std::invalid_argument& e) {
-      throw cfg::ConfigError(source + ": [Filters] chain: " + e.what());
-    }
-    f->initialize(ini, source);
-    chain.push_back(std::move(f));
+  for (const auto& entry : entries) chain.push_back(createEntry(entry, source));
+  checkChain(chain, entries, required, source);  // before any filter allocates its state
+  for (size_t i = 0; i < chain.size(); ++i) {
+    const auto& section = entries[i].section.empty() ? chain[i]->defaultSection() : entries[i].section;
+    chain[i]->initialize(ini, section, source);
   }
   return chain;
+}
+
+std::vector<std::string> filterSections(const mrpt::config::CConfigFileBase& ini,
+                                        const std::string& source) {
+  std::vector<std::string> sections = {"Filters"};
+  auto add = [&](const std::vector<std::string>& more) {
+    for (const auto& s : more)
+      if (!contains(sections, s)) sections.push_back(s);
+  };
+  for (const auto& name : availableFilters()) {
+    const auto filter = createFilter(name);
+    add(filter->sections(filter->defaultSection()));
+  }
+  for (const auto& entry : chainEntries(loadChainOptions(ini, source), source))
+    if (!entry.section.empty()) add(createEntry(entry, source)->sections(entry.section));
+  return sections;
+}
+
+void saveFilterSettings(const mrpt::config::CConfigFileBase& ini, const std::string& source,
+                        mrpt::config::CConfigFileBase& out) {
+  auto options = loadChainOptions(ini, source);
+  cfg::saveSection(out, "Filters", options);
+  auto saveOne = [&](const std::string& name, const std::string& section) {
+    const auto filter = createFilter(name);
+    filter->initialize(ini, section, source);
+    filter->save(out, section);
+  };
+  for (const auto& name : availableFilters()) saveOne(name, createFilter(name)->defaultSection());
+  for (const auto& entry : chainEntries(options, source))
+    if (!entry.section.empty()) saveOne(entry.name, entry.section);
 }
 
 bool applyChain(FilterChain& chain, mrpt::obs::CObservation3DRangeScan& obs,
@@ -88,8 +156,14 @@ bool applyChain(FilterChain& chain, mrpt::obs::CObservation3DRangeScan& obs,
 }
 
 // ---------------------------------------------------------------- gmc
-void GmcFilter::initialize(const mrpt::config::CConfigFileBase& ini, const std::string& source) {
-  cfg::loadSection(ini, "GmcFilter", options_, source);
+std::vector<std::string> GmcFilter::sections(const std::string& section) const {
+  return {section,      "Frontend",  "GMS",       "GMC",    "Odometry",
+          "Refinement", "LocalMap", "Background", "Keyframes", "Window", "DynamicMask"};
+}
+
+void GmcFilter::initialize(const mrpt::config::CConfigFileBase& ini, const std::string& section,
+                           const std::string& source) {
+  cfg::loadSection(ini, section, options_, source);
   cfg::loadSection(ini, "Frontend", odometry_config_.frontend, source);
   cfg::loadSection(ini, "GMS", odometry_config_.gms, source);
   cfg::loadSection(ini, "GMC", odometry_config_.gmc, source);
@@ -107,6 +181,24 @@ void GmcFilter::initialize(const mrpt::config::CConfigFileBase& ini, const std::
   mask_builder_ = std::make_unique<vo::DynamicMaskBuilder>(mask_options_);
 }
 
+void GmcFilter::save(mrpt::config::CConfigFileBase& out, const std::string& section) const {
+  // saveSection takes the structs by non-const reference (their visit() is not const).
+  auto options = options_;
+  auto odometry = odometry_config_;
+  auto mask = mask_options_;
+  cfg::saveSection(out, section, options);
+  cfg::saveSection(out, "Frontend", odometry.frontend);
+  cfg::saveSection(out, "GMS", odometry.gms);
+  cfg::saveSection(out, "GMC", odometry.gmc);
+  cfg::saveSection(out, "Odometry", odometry.odometry);
+  cfg::saveSection(out, "Refinement", odometry.refinement);
+  cfg::saveSection(out, "LocalMap", odometry.local_map);
+  cfg::saveSection(out, "Background", odometry.background);
+  cfg::saveSection(out, "Keyframes", odometry.keyframes);
+  cfg::saveSection(out, "Window", odometry.window);
+  cfg::saveSection(out, "DynamicMask", mask);
+}
+
 bool GmcFilter::filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& context) {
   if (!obs.hasRangeImage || !obs.hasIntensityImage)
     throw std::runtime_error("frame " + std::to_string(context.frame_index) +
@@ -118,12 +210,12 @@ bool GmcFilter::filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& c
     cv::cvtColor(frame.rgb, gray, cv::COLOR_BGR2GRAY);
   else
     gray = frame.rgb;
-  context.tracking =
+  auto& tracking = context.products[kTracking] =
       odometry_->process(gray, frame.depth, frame.depth_units, frame.camera, frame.stamp);
+  auto& result = std::any_cast<vo::FrameTracking&>(tracking);
   const auto mask_start = std::chrono::steady_clock::now();
-  context.dynamic_mask =
-      mask_builder_->build(*context.tracking, frame.depth, frame.depth_units, frame.camera);
-  context.tracking->times.mask =
+  context.dynamic_mask = mask_builder_->build(result, frame.depth, frame.depth_units, frame.camera);
+  result.times.mask =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - mask_start).count();
 
   const cv::Mat& mask = context.dynamic_mask;
@@ -150,10 +242,15 @@ bool GmcFilter::filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& c
 
 // ---------------------------------------------------------------- depth_range
 void DepthRangeFilter::initialize(const mrpt::config::CConfigFileBase& ini,
-                                  const std::string& source) {
-  cfg::loadSection(ini, "DepthRange", options_, source);
+                                  const std::string& section, const std::string& source) {
+  cfg::loadSection(ini, section, options_, source);
   if (options_.min_depth >= options_.max_depth)
-    throw cfg::ConfigError(source + ": [DepthRange] min_depth must be below max_depth");
+    throw cfg::ConfigError(source + ": [" + section + "] min_depth must be below max_depth");
+}
+
+void DepthRangeFilter::save(mrpt::config::CConfigFileBase& out, const std::string& section) const {
+  auto copy = options_;
+  cfg::saveSection(out, section, copy);
 }
 
 bool DepthRangeFilter::filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext&) {
@@ -170,8 +267,13 @@ bool DepthRangeFilter::filter(mrpt::obs::CObservation3DRangeScan& obs, FilterCon
 
 // ---------------------------------------------------------------- decimate
 void DecimateFilter::initialize(const mrpt::config::CConfigFileBase& ini,
-                                const std::string& source) {
-  cfg::loadSection(ini, "Decimate", options_, source);
+                                const std::string& section, const std::string& source) {
+  cfg::loadSection(ini, section, options_, source);
+}
+
+void DecimateFilter::save(mrpt::config::CConfigFileBase& out, const std::string& section) const {
+  auto copy = options_;
+  cfg::saveSection(out, section, copy);
 }
 
 bool DecimateFilter::filter(mrpt::obs::CObservation3DRangeScan&, FilterContext&) {

@@ -3,28 +3,34 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "gmc/apps/command_line.h"
 #include "gmc/datasets/atomic_file.h"
 #include "gmc/datasets/evaluation.h"
 
 namespace gmc::apps {
 namespace {
-const char* kUsage = "usage: gmc-eval --gt FILE --est FILE [--json OUT.json] [--plot OUT.png]";
+const char* kUsage =
+    "usage: gmc-eval --gt FILE --est FILE [--gt-frame camera|bonn] [--json OUT.json] [--plot OUT.png]";
 }
 
 void EvalApp::initialize(const std::vector<std::string>& args) {
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    std::string* target = a == "--gt" ? &gt_ : a == "--est" ? &est_ : a == "--json" ? &json_
-                        : a == "--plot" ? &plot_ : nullptr;
-    if (!target) throw AppError("unknown argument '" + a + "'\n" + kUsage, 2);
-    if (i + 1 >= args.size()) throw AppError(a + " needs a value\n" + kUsage, 2);
-    *target = args[++i];
-  }
-  if (gt_.empty() || est_.empty()) throw AppError(kUsage, 2);
+  CommandLine line("gmc-eval", kUsage);
+  TCLAP::ValueArg<std::string> gt("", "gt", "ground-truth trajectory (TUM format)", false, "", "FILE", line.cmd());
+  TCLAP::ValueArg<std::string> est("", "est", "estimated trajectory (TUM format)", false, "", "FILE", line.cmd());
+  std::vector<std::string> frames = datasets::kGroundTruthFrames;
+  TCLAP::ValuesConstraint<std::string> frame_names(frames);
+  TCLAP::ValueArg<std::string> gt_frame("", "gt-frame", "what the ground truth gives poses of", false, "camera",
+                                        &frame_names, line.cmd());
+  TCLAP::ValueArg<std::string> json("", "json", "write the figures as JSON", false, "", "OUT.json", line.cmd());
+  TCLAP::ValueArg<std::string> plot("", "plot", "write a trajectory plot", false, "", "OUT.png", line.cmd());
+  line.parse(args);
+  if (gt.getValue().empty() || est.getValue().empty()) line.fail("--gt and --est are required");
+  gt_ = gt.getValue(), est_ = est.getValue(), gt_frame_ = gt_frame.getValue();
+  json_ = json.getValue(), plot_ = plot.getValue();
 }
 
 int EvalApp::run() {
-  const auto gt = datasets::readTumTrajectory(gt_);
+  const auto gt = datasets::readGroundTruth(gt_, gt_frame_);
   const auto est = datasets::readTumTrajectory(est_);
   if (gt.empty()) throw AppError(gt_ + ": no poses");
   if (est.empty()) throw AppError(est_ + ": no poses");

@@ -2,7 +2,9 @@
 
 #include <cstdio>
 #include <iostream>
+#include <map>
 
+#include "gmc/apps/command_line.h"
 #include "gmc/apps/rgbd_mapping_app.h"
 #include "gmc/config/ini.h"
 #include "gmc/datasets/rawlog.h"
@@ -16,46 +18,55 @@ const char* kUsage =
 }
 
 void RawlogFilterApp::initialize(const std::vector<std::string>& args) {
-  std::vector<std::string> positional;
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--set") {
-      if (i + 1 >= args.size()) throw AppError("--set needs a value\n" + std::string(kUsage), 2);
-      overrides_.push_back(args[++i]);
-    } else if (!args[i].empty() && args[i][0] == '-') {
-      throw AppError("unknown option '" + args[i] + "'\n" + kUsage, 2);
-    } else {
-      positional.push_back(args[i]);
-    }
-  }
-  if (positional.size() != 3) throw AppError(kUsage, 2);
-  config_ = positional[0], input_ = positional[1], output_ = positional[2];
+  CommandLine line("gmc-rawlog-filter", kUsage);
+  TCLAP::MultiArg<std::string> set("", "set", "override one INI key", false, "Section.key=value", line.cmd());
+  TCLAP::UnlabeledMultiArg<std::string> positional("files", "config, input, output", false, "path", line.cmd());
+  line.parse(args);
+  if (positional.getValue().size() != 3) line.fail("expected <config.ini> <input> <out.rawlog>");
+  overrides_ = set.getValue();
+  config_ = positional.getValue()[0], input_ = positional.getValue()[1], output_ = positional.getValue()[2];
 }
 
 int RawlogFilterApp::run() {
   auto ini = cfg::loadIniFile(config_);
   cfg::applyOverrides(ini, overrides_);
   const PipelineConfig config = loadPipelineConfig(ini, config_);
-  filters::FilterChain chain = filters::buildChain(ini, config_);
-  auto source = datasets::openRgbdSource(input_, config.camera);
+  // One chain per camera (a gmc filter tracks one camera); the first is built and checked
+  // before the output is opened.
+  std::map<std::string, filters::FilterChain> chains;
+  filters::FilterChain first_chain = filters::buildChain(ini, config_);
+  datasets::SensorSelection sensors = config.sensors;
+  sensors.single_camera = false;  // every selected camera is filtered
+  auto source = datasets::openRgbdSource(input_, config.camera, sensors, config.distortion);
   datasets::RawlogWriter writer(output_);
-  size_t read = 0, skipped = 0;
+  source->setObjectSink(&writer);  // every object passes on, in order
+  size_t read = 0, skipped = 0, dropped = 0;
   datasets::RgbdFrame frame;
   while (true) {
     try {
       if (!source->next(frame)) break;
     } catch (const datasets::FrameReadError& e) {
+      // Not filtered; a rawlog's object still passes on as it was read.
       std::cerr << "gmc-rawlog-filter: warning: skipping " << e.what() << "\n";
       ++skipped;
       continue;
     }
-    auto obs = datasets::toObservation(frame);
+    auto [chain, created] = chains.try_emplace(frame.sensor_label);
+    if (created) chain->second = chains.size() == 1 ? std::move(first_chain) : filters::buildChain(ini, config_);
+    auto obs = datasets::observationOf(frame);
     filters::FilterContext ctx;
     ctx.frame_index = read++;
-    if (filters::applyChain(chain, *obs, ctx)) writer.write(*obs);
+    if (filters::applyChain(chain->second, *obs, ctx)) {
+      writer.write(*obs);
+    } else {
+      writer.drop(*obs);
+      ++dropped;
+    }
   }
   writer.close();
-  std::printf("%s: %zu of %zu observations kept (%zu unreadable skipped)\n", output_.c_str(),
-              writer.count(), read, skipped);
+  std::printf("%s: %zu objects written; %zu RGB-D observations filtered, %zu dropped by the "
+              "chain, %zu unreadable not filtered\n",
+              output_.c_str(), writer.count(), read, dropped, skipped);
   return 0;
 }
 

@@ -12,10 +12,13 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <thread>
 #include <unistd.h>
 
+#include "gmc/apps/command_line.h"
+#include "gmc/apps/config_files.h"
 #include "gmc/apps/pipeline_report.h"
 #include "gmc/config/ini.h"
 #include "gmc/datasets/atomic_file.h"
@@ -24,6 +27,7 @@
 #include "gmc/datasets/source.h"
 #include "gmc/datasets/tum.h"
 #include "gmc/filters/filter.h"
+#include "gmc/filters/gmc_filter.h"
 #include "gmc/mapping/map_quality.h"
 #include "gmc/mapping/static_map.h"
 
@@ -83,8 +87,8 @@ cv::Mat plotMemory(const std::vector<MemorySample>& samples) {
 }
 
 const char* kUsage =
-    "usage: gmc-rgbd-mapping <config.ini> <input.rawlog|tum_dir> --out DIR "
-    "[--set Section.key=value ...]";
+    "usage: gmc-rgbd-mapping [<config.ini>] <input.rawlog|tum_dir> --out DIR "
+    "[--config NAME|FILE] [--set Section.key=value ...] [--print-config]";
 
 void onSignal(int) { RgbdMappingApp::requestStop(); }
 
@@ -159,12 +163,14 @@ PipelineConfig loadPipelineConfig(const mrpt::config::CConfigFileBase& ini, cons
   cfg::loadSection(ini, "Playback", c.playback, source);
   cfg::loadSection(ini, "Output", c.output, source);
   cfg::loadSection(ini, "Mapping", c.map, source);
-  const auto unknown = cfg::unknownSections(
-      ini, {"Dataset", "Playback", "Output", "Mapping", "Filters", "GmcFilter", "Frontend", "GMS",
-            "GMC", "Odometry", "Refinement", "LocalMap", "Background", "Keyframes", "Window", "DynamicMask",
-            "DepthRange", "Decimate"});
+  std::set<std::string> known = {"Dataset", "Playback", "Output", "Mapping"};
+  for (const auto& section : filters::filterSections(ini, source)) known.insert(section);
+  const auto unknown = cfg::unknownSections(ini, known);
   if (!unknown.empty()) throw cfg::ConfigError(source + ": unknown section [" + unknown.front() + "]");
   c.camera = cameraFromOptions(c.dataset);
+  c.sensors.labels = datasets::splitList(filters::loadChainOptions(ini, source).sensor_label);
+  c.sensors.single_camera = true;
+  if (c.dataset.undistort == "auto") c.distortion = datasets::presetDistortion(c.dataset.camera);
   return c;
 }
 
@@ -193,27 +199,23 @@ void RgbdMappingApp::scoreAgainstMask(const datasets::RgbdFrame& frame, const cv
 }
 
 void RgbdMappingApp::initialize(const std::vector<std::string>& args) {
-  std::vector<std::string> positional;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a == "--out" || a == "--set") {
-      if (i + 1 >= args.size()) throw AppError(a + " needs a value\n" + kUsage, 2);
-      (a == "--out" ? out_dir_ : overrides_.emplace_back()) = args[++i];
-    } else if (a == "-h" || a == "--help") {
-      throw AppError(kUsage, 2);
-    } else if (!a.empty() && a[0] == '-') {
-      throw AppError("unknown option " + a + "\n" + kUsage, 2);
-    } else {
-      positional.push_back(a);
-    }
-  }
-  if (positional.size() != 2 || out_dir_.empty()) throw AppError(kUsage, 2);
-  config_path_ = positional[0];
-  input_path_ = positional[1];
+  CommandLine line("gmc-rgbd-mapping", kUsage);
+  TCLAP::ValueArg<std::string> out("", "out", "output folder", false, "", "DIR", line.cmd());
+  TCLAP::MultiArg<std::string> set("", "set", "override one INI key", false, "Section.key=value", line.cmd());
+  TCLAP::ValueArg<std::string> config("", "config", "INI file, or the name of a shipped one", false, "", "NAME|FILE", line.cmd());
+  TCLAP::SwitchArg print("", "print-config", "print the effective configuration and stop", line.cmd(), false);
+  TCLAP::UnlabeledMultiArg<std::string> positional("paths", "[config.ini] input", false, "path", line.cmd());
+  line.parse(args);
+  const InvocationPaths paths = invocationPaths(positional.getValue(), config.getValue(), print.getValue());
+  if (!paths.error.empty()) line.fail(paths.error);
+  if (!print.getValue() && out.getValue().empty()) line.fail("--out DIR is required");
+  config_path_ = paths.config, input_path_ = paths.input;
+  out_dir_ = out.getValue(), overrides_ = set.getValue(), print_config_ = print.getValue();
 }
 
 int RgbdMappingApp::run() {
   namespace fs = std::filesystem;
+  if (print_config_) return printEffectiveConfig(config_path_, overrides_);
   stop_requested_ = false;
   // --- configuration (strict: every section we own is checked)
   auto ini = cfg::loadIniFile(config_path_);
@@ -223,9 +225,9 @@ int RgbdMappingApp::run() {
   const PlaybackOptions& playback = config.playback;
   const OutputOptions& output = config.output;
   const mapping::StaticMapOptions& map_options = config.map;
-  filters::FilterChain chain = filters::buildChain(ini, config_path_);
+  filters::FilterChain chain = filters::buildChain(ini, config_path_, {filters::kTracking});
   const gmc::PinholeCamera& camera = config.camera;
-  std::unique_ptr<datasets::RgbdSource> source = datasets::openRgbdSource(input_path_, camera);
+  std::unique_ptr<datasets::RgbdSource> source = datasets::openRgbdSource(input_path_, camera, config.sensors, config.distortion);
 
   // Ground truth, to anchor the first pose (maps comparable with a simulated scene).
   std::string gt_path = dataset.groundtruth;
@@ -234,7 +236,7 @@ int RgbdMappingApp::run() {
     if (!fs::is_directory(input_path_) || !fs::exists(gt_path)) gt_path.clear();
   }
   std::vector<datasets::StampedPose> groundtruth;
-  if (!gt_path.empty()) groundtruth = datasets::readTumTrajectory(gt_path);
+  if (!gt_path.empty()) groundtruth = datasets::readGroundTruth(gt_path, dataset.groundtruth_frame);
   if (dataset.anchor_to_groundtruth && groundtruth.empty())
     throw AppError(config_path_ + ": [Dataset] anchor_to_groundtruth needs a groundtruth file");
 
@@ -248,6 +250,7 @@ int RgbdMappingApp::run() {
   std::unique_ptr<datasets::RawlogWriter> filtered;
   if (output.filtered_rawlog)
     filtered = std::make_unique<datasets::RawlogWriter>((fs::path(out_dir_) / "filtered.rawlog").string());
+  if (filtered) source->setObjectSink(filtered.get());  // the rawlog's other objects pass on
   if (output.overlay_every > 0) fs::create_directories(fs::path(out_dir_) / "overlays");
 
   auto old_int = std::signal(SIGINT, onSignal);
@@ -284,7 +287,7 @@ int RgbdMappingApp::run() {
       ++pass;
       stamp_shift += last_stamp - pass_first_stamp + frame_interval;
       pass_first_stamp = -1;
-      source = datasets::openRgbdSource(input_path_, camera);
+      source = datasets::openRgbdSource(input_path_, camera, config.sensors, config.distortion);
       continue;
     }
     if (!have) break;
@@ -311,13 +314,14 @@ int RgbdMappingApp::run() {
     }
 
     const auto t0 = std::chrono::steady_clock::now();
-    auto obs = datasets::toObservation(frame);
+    auto obs = datasets::observationOf(frame);
     filters::FilterContext ctx;
     ctx.frame_index = this_index;
-    if (!filters::applyChain(chain, *obs, ctx)) continue;  // decimated
-    if (!ctx.tracking)
-      throw AppError(config_path_ + ": [Filters] chain must contain the gmc filter (it tracks the camera)");
-    vo::FrameTracking& tracking = *ctx.tracking;
+    if (!filters::applyChain(chain, *obs, ctx)) {  // decimated
+      if (filtered) filtered->drop(*obs);
+      continue;
+    }
+    vo::FrameTracking& tracking = *filters::trackingOf(ctx);  // the chain was checked to set it
     if (report.frames == 0 && dataset.anchor_to_groundtruth) {
       const auto gt = datasets::interpolatePose(groundtruth, frame.stamp);
       if (!gt) throw AppError(gt_path + ": no ground-truth pose near the first frame");
@@ -388,6 +392,7 @@ int RgbdMappingApp::run() {
 
   // --- outputs, each written to a temporary name and renamed when complete
   datasets::writeTumTrajectory((fs::path(out_dir_) / "trajectory_tum.txt").string(), trajectory);
+  datasets::writeBaseTrajectory((fs::path(out_dir_) / "trajectory_base_tum.txt").string(), trajectory, source->baseCamera());
   if (map) {
     map->writeBinary((fs::path(out_dir_) / "map.bt").string());
     report.map = map->stats();

@@ -65,7 +65,8 @@ int Tum2RawlogApp::run() {
   std::string gt_out;
   size_t gt_poses = 0;
   if (fs::exists(gt_path)) {
-    const auto gt = datasets::readTumTrajectory(gt_path.string());
+    // Bonn's file holds the marker body: the sibling file is the camera, as evaluators expect.
+    const auto gt = datasets::readGroundTruth(gt_path.string(), camera_ == "bonn" ? "bonn" : "camera");
     std::vector<datasets::StampedPose> at_frames;
     for (double s : stamps)
       if (auto T = datasets::interpolatePose(gt, s)) at_frames.push_back({s, *T});
@@ -81,8 +82,8 @@ int Tum2RawlogApp::run() {
               output_.c_str(), writer.count(), unpaired.size(), seconds,
               writer.count() / std::max(seconds, 1e-9));
   if (!gt_out.empty())
-    std::printf("%s: ground truth at %zu of %zu frame stamps\n", gt_out.c_str(), gt_poses,
-                stamps.size());
+    std::printf("%s: ground truth at %zu of %zu frame stamps%s\n", gt_out.c_str(), gt_poses,
+                stamps.size(), camera_ == "bonn" ? " (Bonn marker body converted to the camera)" : "");
   return 0;
 }
 

@@ -1,6 +1,9 @@
 #pragma once
 // One RGB-D frame as every layer above the datasets library sees it.
+#include <mrpt/obs/CObservation3DRangeScan.h>
 #include <opencv2/core.hpp>
+
+#include <optional>
 #include <string>
 
 #include "gmc/gmc/types.h"
@@ -14,6 +17,13 @@ struct RgbdFrame {
   double depth_units = 1.0 / 5000.0;  ///< metres per depth unit (TUM: 1/5000)
   PinholeCamera camera;      ///< intrinsics of the registered RGB-D pair
   std::string name;          ///< where it came from, for messages ("rgb/1305031102.175304.png")
+  std::string sensor_label;  ///< the observation's sensorLabel (rawlogs; empty for folders)
+  /// T_base_camera (optical frame) when the rawlog gives the camera a sensorPose other
+  /// than the identity: the camera sits on a robot whose base is the pose's reference.
+  std::optional<Isometry> base_camera;
+  /// The rawlog's own observation (null for folders): filters change it in place, so a
+  /// writer passes on every other field unchanged (see observationOf()).
+  mrpt::obs::CObservation3DRangeScan::Ptr observation;
 
   double depthAt(int u, int v) const { return depth.at<std::uint16_t>(v, u) * depth_units; }
 };

@@ -4,7 +4,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "gmc/datasets/camera.h"
 #include "gmc/datasets/frame.h"
+#include "gmc/datasets/rawlog_stream.h"
 
 namespace gmc::datasets {
 
@@ -23,14 +25,27 @@ class RgbdSource {
   virtual bool next(RgbdFrame& frame) = 0;
   /// Number of frames when known in advance, else 0.
   virtual size_t sizeHint() const = 0;
+  /// Rawlogs: hands every object read to `sink` (a RawlogWriter that passes them on)
+  /// before its scans become frames. Folders have nothing else to pass on.
+  virtual void setObjectSink(RawlogObjectSink* /*sink*/) {}
+  /// T_base_camera of the camera read last (see RgbdFrame::base_camera).
+  const std::optional<Isometry>& baseCamera() const { return base_camera_; }
+
+ protected:
+  std::optional<Isometry> base_camera_;
 };
 
 /// Opens a ".rawlog" file or a TUM-layout folder (rgb.txt, depth.txt, rgb/, depth/;
 /// RGB paired with the nearest depth within 0.02 s). `camera` gives the intrinsics of
 /// TUM folders; rawlogs carry their own. Throws InputError when the input cannot be
-/// opened as a whole. In a rawlog, observations of other classes (odometry, other
-/// sensors) are passed over; a rawlog without any CObservation3DRangeScan is an
-/// InputError when its end is reached.
-std::unique_ptr<RgbdSource> openRgbdSource(const std::string& path, const PinholeCamera& camera);
+/// opened as a whole. Rawlogs in either format (observations; actions and sensory
+/// frames): the CObservation3DRangeScans that `sensors` selects become frames, in order;
+/// other objects are passed over (or to the object sink). A rawlog without any selected
+/// scan is an InputError when its end is reached. `distortion` (TUM folders): the lens
+/// distortion of `camera`, removed from every frame (see Undistorter); rawlog frames are
+/// used as recorded.
+std::unique_ptr<RgbdSource> openRgbdSource(const std::string& path, const PinholeCamera& camera,
+                                           const SensorSelection& sensors = {},
+                                           const LensDistortion& distortion = {});
 
 }  // namespace gmc::datasets

@@ -48,6 +48,29 @@ std::vector<StampedPose> readTumTrajectory(const std::string& path);
 /// Writes atomically, stamps with 6 decimals, poses with 9 significant digits.
 void writeTumTrajectory(const std::string& path, const std::vector<StampedPose>& poses);
 
+/// The frame a ground-truth file gives poses of: "camera" (TUM: the optical frame) or
+/// "bonn" (the Bonn RGB-D Dynamic dataset: the motion-capture marker body).
+inline const std::vector<std::string> kGroundTruthFrames = {"camera", "bonn"};
+
+/// Bonn marker-body poses -> camera optical-frame poses, as the dataset publishes:
+/// T_camera = T_ros · T_gt · T_ros · T_m, T_m's rotation projected onto the nearest
+/// rotation (the published block is not orthonormal). See doc/evaluation.md.
+std::vector<StampedPose> bonnBodyToCamera(const std::vector<StampedPose>& body_poses);
+
+/// readTumTrajectory() in the camera frame: converted by `frame` ("camera": as read).
+/// Throws std::invalid_argument for another frame name.
+std::vector<StampedPose> readGroundTruth(const std::string& path, const std::string& frame);
+
+/// The robot base's trajectory from the camera's: T_w'_base = T_base_camera · T_w_camera ·
+/// T_base_camera⁻¹, whose world w' is the base at the pose where the camera's world w
+/// was (the first base pose when w is the first camera pose).
+std::vector<StampedPose> baseTrajectory(const std::vector<StampedPose>& camera_trajectory,
+                                        const Isometry& T_base_camera);
+/// Writes baseTrajectory() to `path` when the camera has a base (a sensorPose other than
+/// the identity); does nothing otherwise.
+void writeBaseTrajectory(const std::string& path, const std::vector<StampedPose>& camera_trajectory,
+                         const std::optional<Isometry>& T_base_camera);
+
 /// TUM's associate.py: candidate pairs with |a - b| < max_dt, taken greedily by
 /// increasing |a - b|, each stamp used once; result sorted by the first stamp.
 std::vector<std::pair<size_t, size_t>> associate(const std::vector<double>& first,

@@ -4,6 +4,7 @@
 // depth, so any MRPT map built from the filtered rawlog ignores walkers.
 #include "gmc/filters/filter.h"
 #include "gmc/vo/dynamic_mask.h"
+#include "gmc/vo/odometry.h"
 
 namespace gmc::filters {
 
@@ -22,8 +23,16 @@ struct GmcFilterOptions {
 class GmcFilter : public ObservationFilter {
  public:
   std::string name() const override { return "gmc"; }
-  /// Reads [GmcFilter], [Frontend], [GMS], [GMC], [Odometry], [Refinement], [DynamicMask].
-  void initialize(const mrpt::config::CConfigFileBase& ini, const std::string& source) override;
+  std::string defaultSection() const override { return "GmcFilter"; }
+  /// Reads its own section, and [Frontend], [GMS], [GMC], [Odometry], [Refinement],
+  /// [LocalMap], [Background], [Keyframes], [Window],
+  /// [DynamicMask] shared by every gmc filter.
+  void initialize(const mrpt::config::CConfigFileBase& ini, const std::string& section,
+                  const std::string& source) override;
+  std::vector<std::string> sections(const std::string& section) const override;
+  void save(mrpt::config::CConfigFileBase& out, const std::string& section) const override;
+  /// kTracking (a vo::FrameTracking) and the dynamic mask.
+  std::vector<std::string> provides() const override { return {kTracking}; }
   bool filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& context) override;
 
   const vo::OdometryConfig& odometryConfig() const { return odometry_config_; }
@@ -35,6 +44,11 @@ class GmcFilter : public ObservationFilter {
   std::unique_ptr<vo::RgbdOdometry> odometry_;
   std::unique_ptr<vo::DynamicMaskBuilder> mask_builder_;
 };
+
+/// The gmc filter's result for this frame, or nullptr when no gmc filter ran.
+inline vo::FrameTracking* trackingOf(FilterContext& context) {
+  return context.product<vo::FrameTracking>(kTracking);
+}
 
 /// INI section [DepthRange]: readings outside [min_depth, max_depth] become "no reading".
 class DepthRangeFilter : public ObservationFilter {
@@ -49,7 +63,10 @@ class DepthRangeFilter : public ObservationFilter {
     }
   };
   std::string name() const override { return "depth_range"; }
-  void initialize(const mrpt::config::CConfigFileBase& ini, const std::string& source) override;
+  std::string defaultSection() const override { return "DepthRange"; }
+  void initialize(const mrpt::config::CConfigFileBase& ini, const std::string& section,
+                  const std::string& source) override;
+  void save(mrpt::config::CConfigFileBase& out, const std::string& section) const override;
   bool filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& context) override;
 
  private:
@@ -65,7 +82,10 @@ class DecimateFilter : public ObservationFilter {
     void visit(V& v) { v("keep_every", keep_every, 1, 1000000, "keep one frame in every N"); }
   };
   std::string name() const override { return "decimate"; }
-  void initialize(const mrpt::config::CConfigFileBase& ini, const std::string& source) override;
+  std::string defaultSection() const override { return "Decimate"; }
+  void initialize(const mrpt::config::CConfigFileBase& ini, const std::string& section,
+                  const std::string& source) override;
+  void save(mrpt::config::CConfigFileBase& out, const std::string& section) const override;
   bool filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& context) override;
 
  private:

@@ -18,7 +18,7 @@ struct WindowOptions {
 
   template <class V>
   void visit(V& v) {
-    v("keyframes", keyframes, 0, 64, "keyframes optimised jointly with their static landmarks (0 = off)");
+    v("keyframes", keyframes, 0, 64, "keyframes optimised jointly with their landmarks (0 = off)");
     v("iterations", iterations, 1, 100, "Levenberg-Marquardt iterations per new keyframe");
     v("min_observations", min_observations, 2, 64, "keyframes that must see a landmark for it to take part");
   }

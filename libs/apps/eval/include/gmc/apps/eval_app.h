@@ -3,14 +3,14 @@
 
 namespace gmc::apps {
 
-/// gmc-eval --gt FILE --est FILE [--json OUT.json] [--plot OUT.png]
+/// gmc-eval --gt FILE --est FILE [--gt-frame camera|bonn] [--json OUT.json] [--plot OUT.png]
 class EvalApp : public App {
  public:
   void initialize(const std::vector<std::string>& args) override;
   int run() override;
 
  private:
-  std::string gt_, est_, json_, plot_;
+  std::string gt_, est_, gt_frame_ = "camera", json_, plot_;
 };
 
 }  // namespace gmc::apps

@@ -7,7 +7,9 @@
 
 #include "gmc/apps/app.h"
 #include "gmc/apps/pipeline_report.h"
+#include "gmc/datasets/camera.h"
 #include "gmc/datasets/frame.h"
+#include "gmc/datasets/rawlog_stream.h"
 #include "gmc/mapping/static_map.h"
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -21,7 +23,9 @@ struct DatasetOptions {
   int max_frames = 0;          ///< 0 = all
   int first_frame = 0;
   std::string groundtruth;     ///< optional TUM file; "auto" = <input>/groundtruth.txt if present
+  std::string groundtruth_frame = "camera";  ///< or "bonn": marker-body poses, converted
   bool anchor_to_groundtruth = false;  ///< start the trajectory at the ground-truth pose
+  std::string undistort = "auto";  ///< auto: TUM's published distortion for fr1/fr2; none
   int repeat = 1;              ///< play the input this many times (long-run tests); later
                                ///< passes get stamps shifted past the previous pass
 
@@ -32,9 +36,13 @@ struct DatasetOptions {
     v("fy", fy, 1.0, 1e5, "custom focal length y (px)");
     v("cx", cx, 0.0, 1e5, "custom principal point x (px)");
     v("cy", cy, 0.0, 1e5, "custom principal point y (px)");
+    v.choice("undistort", undistort, {"auto", "none"},
+             "auto: remove the lens distortion TUM publishes for fr1/fr2 (folders); none: use images as they are");
     v("max_frames", max_frames, 0, 100000000, "process at most this many frames (0 = all)");
     v("first_frame", first_frame, 0, 100000000, "skip this many frames first");
     v("groundtruth", groundtruth, "TUM ground truth file, 'auto', or empty");
+    v.choice("groundtruth_frame", groundtruth_frame, {"camera", "bonn"},
+             "what the ground truth gives poses of: camera (TUM) or bonn (marker body, converted)");
     v("anchor_to_groundtruth", anchor_to_groundtruth,
       "start the trajectory at the first ground-truth pose (maps comparable with ground truth)");
     v("repeat", repeat, 1, 1000000, "play the input this many times (stamps shifted per pass)");
@@ -79,6 +87,10 @@ struct PipelineConfig {
   OutputOptions output;
   mapping::StaticMapOptions map;
   PinholeCamera camera;  ///< from [Dataset] camera (TUM folders; rawlogs carry their own)
+  /// From [Filters] sensor_label: the camera the odometry tracks (single_camera).
+  datasets::SensorSelection sensors;
+  /// From [Dataset] undistort and camera: removed from frames of TUM folders.
+  datasets::LensDistortion distortion;
 };
 /// Throws cfg::ConfigError naming the file, section and key; also rejects sections that
 /// neither the apps nor the filters read.
@@ -99,6 +111,7 @@ class RgbdMappingApp : public App {
                         const cv::Mat& dynamic_mask, double max_range, PipelineReport& report) const;
 
   std::string config_path_, input_path_, out_dir_, masks_dir_;
+  bool print_config_ = false;  ///< --print-config: print the effective configuration, stop
   std::vector<std::string> overrides_;
   static std::atomic<bool> stop_requested_;
 };

@@ -1,0 +1,27 @@
+#pragma once
+// Removing lens distortion from registered RGB-D frames (TUM fr1/fr2).
+#include <opencv2/core.hpp>
+
+#include "gmc/datasets/camera.h"
+#include "gmc/datasets/frame.h"
+
+namespace gmc::datasets {
+
+/// Remaps frames of one camera to the distortion-free pinhole image with the same
+/// intrinsics. Colour is interpolated bilinearly; depth (registered to the colour image,
+/// so distorted the same way) takes the nearest pixel, so no depth is invented between a
+/// person and the wall behind; pixels mapped from outside the image become black / 0.
+class Undistorter {
+ public:
+  Undistorter(const PinholeCamera& camera, const LensDistortion& distortion);
+  /// Changes frame.rgb and frame.depth in place (maps built once per image size).
+  void apply(RgbdFrame& frame);
+
+ private:
+  cv::Matx33d K_;
+  cv::Vec<double, 5> coefficients_;
+  cv::Size size_;
+  cv::Mat map_x_, map_y_;
+};
+
+}  // namespace gmc::datasets

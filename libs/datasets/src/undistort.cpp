@@ -1,0 +1,24 @@
+#include "gmc/datasets/undistort.h"
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace gmc::datasets {
+
+Undistorter::Undistorter(const PinholeCamera& camera, const LensDistortion& d)
+    : K_(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1),
+      coefficients_(d.k1, d.k2, d.p1, d.p2, d.k3) {}
+
+void Undistorter::apply(RgbdFrame& frame) {
+  if (frame.rgb.size() != size_) {
+    size_ = frame.rgb.size();
+    cv::initUndistortRectifyMap(K_, coefficients_, cv::noArray(), K_, size_, CV_32FC1, map_x_, map_y_);
+  }
+  cv::Mat rgb, depth;
+  cv::remap(frame.rgb, rgb, map_x_, map_y_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+  cv::remap(frame.depth, depth, map_x_, map_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT);
+  frame.rgb = rgb;
+  frame.depth = depth;
+}
+
+}  // namespace gmc::datasets
