@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "gmc/apps/command_line.h"
 #include "gmc/datasets/camera.h"
 #include "gmc/datasets/source.h"
 #include "gmc/datasets/tum.h"
@@ -20,20 +21,17 @@ const char* kUsage =
 }
 
 void BaselineApp::initialize(const std::vector<std::string>& args) {
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a == "--out" || a == "--camera" || a == "--method") {
-      if (i + 1 >= args.size()) throw AppError(a + " needs a value\n" + kUsage, 2);
-      (a == "--out" ? out_ : a == "--camera" ? camera_ : method_) = args[++i];
-    } else if (!a.empty() && a[0] == '-') {
-      throw AppError("unknown option '" + a + "'\n" + kUsage, 2);
-    } else if (input_.empty()) {
-      input_ = a;
-    } else {
-      throw AppError(kUsage, 2);
-    }
-  }
-  if (input_.empty() || out_.empty()) throw AppError(kUsage, 2);
+  TCLAP::CmdLine cmd("OpenCV's RGB-D odometry on the same frames", ' ', "", false);
+  TCLAP::UnlabeledValueArg<std::string> input("input", "rawlog or TUM folder", true, "", "input.rawlog|tum_dir", cmd);
+  TCLAP::ValueArg<std::string> out("", "out", "trajectory to write (TUM format)", true, "", "TRAJ.txt", cmd);
+  TCLAP::ValueArg<std::string> camera("", "camera", "intrinsics preset or fx,fy,cx,cy", false, camera_,
+                                      "fr1|fr2|fr3|bonn|fx,fy,cx,cy", cmd);
+  TCLAP::ValueArg<std::string> method("", "method", "OpenCV odometry", false, method_, "rgbd|icp|rgbd_icp", cmd);
+  parseCommandLine(cmd, "gmc-baseline-odometry", args, kUsage);
+  input_ = input.getValue();
+  out_ = out.getValue();
+  camera_ = camera.getValue();
+  method_ = method.getValue();
 }
 
 int BaselineApp::run() {
