@@ -2,10 +2,7 @@
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs features2d calib3d rgbd)
 find_package(mrpt-config REQUIRED)
-find_package(mrpt-obs REQUIRED)
-find_package(mrpt-maps REQUIRED)
-find_package(mrpt-vision REQUIRED)
-find_package(mrpt-tfest REQUIRED)
+find_package(mrpt-obs REQUIRED)     # pulls in mrpt-tfest itself
 find_package(mrpt-opengl REQUIRED)
 find_package(octomap REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)  # JSON outputs (header-only)
