@@ -1,5 +1,6 @@
 #include "gmc/apps/baseline_app.h"
 
+#include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <iostream>
 
 #include "gmc/apps/command_line.h"
+#include "gmc/datasets/atomic_file.h"
 #include "gmc/datasets/camera.h"
 #include "gmc/datasets/source.h"
 #include "gmc/datasets/tum.h"
@@ -17,7 +19,7 @@ namespace gmc::apps {
 namespace {
 const char* kUsage =
     "usage: gmc-baseline-odometry <input.rawlog|tum_dir> --out TRAJ.txt "
-    "[--camera fr1|fr2|fr3|bonn|fx,fy,cx,cy] [--method rgbd|icp|rgbd_icp]";
+    "[--camera fr1|fr2|fr3|bonn|fx,fy,cx,cy] [--method rgbd|icp|rgbd_icp] [--json J.json]";
 }
 
 void BaselineApp::initialize(const std::vector<std::string>& args) {
@@ -27,11 +29,13 @@ void BaselineApp::initialize(const std::vector<std::string>& args) {
   TCLAP::ValueArg<std::string> camera("", "camera", "intrinsics preset or fx,fy,cx,cy", false, camera_,
                                       "fr1|fr2|fr3|bonn|fx,fy,cx,cy", cmd);
   TCLAP::ValueArg<std::string> method("", "method", "OpenCV odometry", false, method_, "rgbd|icp|rgbd_icp", cmd);
+  TCLAP::ValueArg<std::string> json("", "json", "frames, failures and median ms as JSON", false, "", "J.json", cmd);
   parseCommandLine(cmd, "gmc-baseline-odometry", args, kUsage);
   input_ = input.getValue();
   out_ = out.getValue();
   camera_ = camera.getValue();
   method_ = method.getValue();
+  json_ = json.getValue();
 }
 
 int BaselineApp::run() {
@@ -76,6 +80,12 @@ int BaselineApp::run() {
   std::sort(ms.begin(), ms.end());
   std::printf("OpenCV %s odometry: %zu frames, %zu failed, %zu unreadable skipped, %.2f ms median per frame\n",
               method_.c_str(), trajectory.size(), failed, skipped, ms[ms.size() / 2]);
+  if (!json_.empty()) {
+    const nlohmann::ordered_json j = {{"method", method_},     {"frames", trajectory.size()},
+                                      {"failed", failed},      {"unreadable_skipped", skipped},
+                                      {"ms_median", ms[ms.size() / 2]}};
+    datasets::writeTextAtomic(json_, j.dump(2) + "\n");
+  }
   return 0;
 }
 
