@@ -26,8 +26,7 @@ void BaselineApp::initialize(const std::vector<std::string>& args) {
   TCLAP::CmdLine cmd("OpenCV's RGB-D odometry on the same frames", ' ', "", false);
   TCLAP::UnlabeledValueArg<std::string> input("input", "rawlog or TUM folder", true, "", "input.rawlog|tum_dir", cmd);
   TCLAP::ValueArg<std::string> out("", "out", "trajectory to write (TUM format)", true, "", "TRAJ.txt", cmd);
-  TCLAP::ValueArg<std::string> camera("", "camera", "intrinsics preset or fx,fy,cx,cy", false, camera_,
-                                      "fr1|fr2|fr3|bonn|fx,fy,cx,cy", cmd);
+  CameraArg camera(cmd, camera_);
   TCLAP::ValueArg<std::string> method("", "method", "OpenCV odometry", false, method_, "rgbd|icp|rgbd_icp", cmd);
   TCLAP::ValueArg<std::string> json("", "json", "frames, failures and median ms as JSON", false, "", "J.json", cmd);
   parseCommandLine(cmd, "gmc-baseline-odometry", args, kUsage);

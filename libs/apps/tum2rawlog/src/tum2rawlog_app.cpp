@@ -24,8 +24,7 @@ void Tum2RawlogApp::initialize(const std::vector<std::string>& args) {
   TCLAP::CmdLine cmd("TUM/Bonn folder to MRPT rawlog", ' ', "", false);
   TCLAP::UnlabeledValueArg<std::string> input("tum_dir", "TUM-layout folder", true, "", "tum_dir", cmd);
   TCLAP::UnlabeledValueArg<std::string> output("out", "rawlog to write", true, "", "out.rawlog", cmd);
-  TCLAP::ValueArg<std::string> camera("", "camera", "intrinsics preset or fx,fy,cx,cy", false, camera_,
-                                      "fr1|fr2|fr3|bonn|fx,fy,cx,cy", cmd);
+  CameraArg camera(cmd, camera_);
   TCLAP::SwitchArg externalize("", "externalize", "images in <name>_Images/ next to the rawlog", cmd);
   parseCommandLine(cmd, "gmc-tum2rawlog", args, kUsage);
   input_ = input.getValue();

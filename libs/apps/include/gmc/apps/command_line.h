@@ -17,4 +17,13 @@ namespace gmc::apps {
 void parseCommandLine(TCLAP::CmdLine& cmd, const std::string& program, const std::vector<std::string>& args,
                       const std::string& usage);
 
+/// --camera PRESET|fx,fy,cx,cy, shared by the apps that read TUM folders
+/// (datasets::cameraPreset() checks the value).
+class CameraArg : public TCLAP::ValueArg<std::string> {
+ public:
+  CameraArg(TCLAP::CmdLine& cmd, const std::string& default_preset)
+      : TCLAP::ValueArg<std::string>("", "camera", "intrinsics preset or fx,fy,cx,cy", false, default_preset,
+                                     "fr1|fr2|fr3|bonn|fx,fy,cx,cy", cmd) {}
+};
+
 }  // namespace gmc::apps
