@@ -192,4 +192,40 @@ TEST(GmcGolden, OutputsMatchTheRecordedChecksums) {
   }
 }
 
+// GMS keep-flags on generated cases, recorded before GmsRun::run was split into steps.
+TEST(GmsGolden, KeepFlagsMatchTheRecordedChecksums) {
+  const bool print = std::getenv("GMC_PRINT_GOLDEN") != nullptr;
+  const std::vector<std::uint64_t> expected = {
+      0xcede1203b903e9ebull,
+      0xd9d50472734e2202ull,
+      0x3fd06af7802265faull,
+      0x5c9c3dcf8b2f43b5ull,
+      0xac9f3556a3e5c06dull,
+      0x0bc48d9192e90ef6ull,
+      0xb2f0ae0147fee8bbull,
+      0xa6742d29afcde00aull,
+      0xfdcd3c59865fe479ull,
+  };
+  GmsParams rotation_scale;
+  rotation_scale.with_rotation = rotation_scale.with_scale = true;
+  GmsParams fixed_grid;
+  fixed_grid.min_matches_per_cell = 0;
+  size_t k = 0;
+  for (const GmsParams& params : {GmsParams{}, rotation_scale, fixed_grid}) {
+    for (int n : {300, 1000, 3000}) {
+      const auto c = synth::makeGmsCase(n, 0.5, static_cast<unsigned>(n), 12, -7, n == 300 ? 150 : 0);
+      Fnv f;
+      for (auto keep : gmsFilter(c.kp1, 640, 480, c.kp2, 640, 480, c.matches, params)) f.add(keep);
+      if (print) std::printf("      0x%016llxull,\n", static_cast<unsigned long long>(f.value()));
+      if (k < expected.size()) {
+        EXPECT_EQ(f.value(), expected[k]) << "case " << k;
+      }
+      ++k;
+    }
+  }
+  if (!print) {
+    EXPECT_EQ(expected.size(), k);
+  }
+}
+
 }  // namespace
