@@ -24,26 +24,17 @@ export GMC_DATASETS_DIR="${GMC_DATASETS_DIR:-$HOME/datasets}"
 configs=("$@")
 [ ${#configs[@]} -eq 0 ] && configs=(config/bench/sim.ini config/bench/shared_data.ini)
 
-# --- INI reading: ini_get FILE SECTION KEY [DEFAULT] (comments after ';' stripped)
-ini_get() {
-  awk -v sec="$2" -v key="$3" '
-    { sub(/;.*/, ""); gsub(/^[ \t]+|[ \t]+$/, "") }
-    /^\[.*\]$/ { cur = substr($0, 2, length($0) - 2); next }
-    cur == sec && index($0, "=") {
-      k = substr($0, 1, index($0, "=") - 1); v = substr($0, index($0, "=") + 1)
-      gsub(/[ \t]+$/, "", k); gsub(/^[ \t]+/, "", v)
-      if (k == key) { print v; found = 1; exit }
-    }
-    END { if (!found) exit 1 }' "$1" || echo "${4-}"
-}
-ini_sections() { awk '{ sub(/;.*/, "") } /^\[.*\]$/ { s = substr($0, 2, length($0) - 2); if (s != "Bench") print s }' "$1"; }
+# --- INI and JSON reading (configparser, json): scripts/lib/bench_data.py
+data() { python3 "$root/scripts/lib/bench_data.py" "$@"; }
+ini_get() { data ini-get "$@"; }            # ini_get FILE SECTION KEY DEFAULT
+ini_sections() { data ini-sections "$1"; }  # every section but [Bench]
 expand() { local s="$1"; s="${s//\$\{GMC_DATA_DIR\}/$GMC_DATA_DIR}"; echo "${s//\$\{GMC_DATASETS_DIR\}/$GMC_DATASETS_DIR}"; }
 csv_list() { echo "$1" | tr ',' ' '; }
 
 # --- small numeric helpers
-json() { grep -o "\"$2\": [0-9.e+-]*" "$1" | head -1 | awk '{print $2}'; }
-stage_median() { grep -o "\"$2\": {\"median\": [0-9.e+-]*" "$1" | awk '{print $NF}'; }
-stage_p95() { grep -o "\"$2\": {\"median\": [0-9.e+-]*, \"p95\": [0-9.e+-]*" "$1" | awk '{print $NF}'; }
+json() { data json "$@"; }                  # json FILE DOTTED.PATH [PRINTF-FORMAT]
+stage_median() { data json "$1" "ms.$2.median"; }
+stage_p95() { data json "$1" "ms.$2.p95"; }
 # spread "v1 v2 ...": "median [min-max]" with the given printf format
 spread() {
   local fmt="$1"; shift
@@ -55,11 +46,10 @@ spread() {
 median_of() { printf '%s\n' "$@" | sort -g | awk '{ v[NR] = $1 } END { if (NR) print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 # eval_metrics GT EST [PLOT] -> "ate_rmse ate_mae rpe_t_rmse rpe_t_mae rpe_r_rmse rpe_r_mae"
 eval_metrics() {
-  local plot=()
+  local plot=() j="$2.eval.json"
   [ -n "${3-}" ] && plot=(--plot "$3")
-  "$bin/gmc-eval" --gt "$1" --est "$2" "${plot[@]}" | awk '
-    /^ATE/ { a = $3; am = $8 } /^RPE/ { t = $6; tm = $9; r = $13; rm = $16 }
-    END { printf("%.4f %.4f %.4f %.4f %.3f %.3f\n", a, am, t, tm, r, rm) }'
+  "$bin/gmc-eval" --gt "$1" --est "$2" --json "$j" "${plot[@]}" >/dev/null
+  data eval "$j"
 }
 method_name() {
   case "$1" in
@@ -128,9 +118,9 @@ for config in "${configs[@]}"; do
         cv_*)
           for r in $(seq 1 "$repeats"); do
             t="$dir/run/$seq-$m-$r.txt"
-            ms="$("$bin/gmc-baseline-odometry" "$path" --camera "$cam" --method "${m#cv_}" --out "$t" 2>&1 |
-                  awk '/ms median per frame/ { print $(NF-4) }')"
-            times+=("$ms")
+            "$bin/gmc-baseline-odometry" "$path" --camera "$cam" --method "${m#cv_}" --out "$t" \
+              --json "$t.json" >"$t.log" 2>&1
+            times+=("$(json "$t.json" ms_median %.2f)")  # as the app prints it
           done
           traj="$dir/run/$seq-$m-1.txt"
           frames="$(grep -vc '^#' "$traj")"
@@ -170,9 +160,10 @@ for config in "${configs[@]}"; do
         --set DynamicMask.free_space_check=false >"$kp.log" 2>&1
       on="$dir/run/$seq-gmc-1/summary.json" off="$dir/run/$seq-nogmc-1/summary.json"
       [ -f "$off" ] || off="$on"
-      pixels="$(grep -o '"dynamic_pixels_vs_masks": {"precision": [0-9.e+-]*, "recall": [0-9.e+-]*' "$on" |
-                awk '{ gsub(/,/, ""); printf("%.3f | %.3f", $3, $5) }')"
-      t5="$t5\n| $seq | $(json "$on" precision) | $(json "$on" recall) | $pixels | $(json "$on" ghost_voxels) / $(json "$off" ghost_voxels) / $(json "$nm/summary.json" ghost_voxels) / $(json "$kp/summary.json" ghost_voxels) | $(json "$on" static_coverage) / $(json "$off" static_coverage) |"
+      pixels="$(json "$on" dynamic_pixels_vs_masks.precision %.3f) | $(json "$on" dynamic_pixels_vs_masks.recall %.3f)"
+      ghosts() { json "$1" map_quality.ghost_voxels; }
+      coverage() { json "$1" map_quality.static_coverage; }
+      t5="$t5\n| $seq | $(json "$on" dynamic_matches_vs_masks.precision) | $(json "$on" dynamic_matches_vs_masks.recall) | $pixels | $(ghosts "$on") / $(ghosts "$off") / $(ghosts "$nm/summary.json") / $(ghosts "$kp/summary.json") | $(coverage "$on") / $(coverage "$off") |"
     fi
     # Overlay picture ([seq] overlay_picture = PNG, overlay_frame = N): keypoints and mask
     # of frame N, with the ground-truth outline on simulated input.
@@ -205,7 +196,8 @@ for config in "${configs[@]}"; do
           run="$dir/run/$seq-$m-offset$k"
           "$bin/gmc-rgbd-mapping" "$cfg" "$path" --out "$run" --set Playback.progress=false \
             --set Output.map=false --set Dataset.first_frame="$k" "${extra[@]}" >"$run.log" 2>&1
-          ates+=("$("$bin/gmc-eval" --gt "$gt" --est "$run/trajectory_tum.txt" | awk '/^ATE/ { print $3 }')")
+          "$bin/gmc-eval" --gt "$gt" --est "$run/trajectory_tum.txt" --json "$run/eval.json" >/dev/null
+          ates+=("$(json "$run/eval.json" ate.rmse)")
         done
         t6="$t6\n| $seq | $(method_name "$m") | $(printf '%.3f ' "${ates[@]}")| $(spread '%.3f' "${ates[@]}") |"
       done

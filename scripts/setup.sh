@@ -5,8 +5,8 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config ccache
   libeigen3-dev libopencv-dev libopencv-contrib-dev liboctomap-dev
-  libmrpt-config-dev libmrpt-obs-dev libmrpt-maps-dev libmrpt-vision-dev
-  libmrpt-tfest-dev libmrpt-opengl-dev
+  libmrpt-config-dev libmrpt-obs-dev libmrpt-opengl-dev
+  libtclap-dev nlohmann-json3-dev   # argument parsing, JSON (header-only)
   libgtest-dev libbenchmark-dev
   libtclap-dev  # command lines of the apps (header-only)
   mrpt-common   # /usr/share/mrpt/datasets/tests_rgbd.rawlog, read by the tests

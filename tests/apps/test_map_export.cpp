@@ -111,4 +111,24 @@ TEST(MapExport, BadInputsFailCleanly) {
     EXPECT_TRUE(entry.path().filename() == "junk.bt" || entry.path().filename() == "map.bt") << entry.path();
 }
 
+// Command-line errors (TCLAP) are one line naming the argument, then the usage; exit 2.
+TEST(MapExport, UsageErrorsAreOneLineNamingTheArgument) {
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{}, {"m.bt", "--ply"}, {"m.bt", "--bogus"}, {"m.bt", "other.bt"}}) {
+    gmc::apps::MapExportApp app;
+    try {
+      app.initialize(args);
+      ADD_FAILURE() << "no usage error";
+    } catch (const gmc::apps::AppError& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(e.exitCode(), 2) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+      EXPECT_NE(what.find("usage: gmc-map-export"), std::string::npos) << what;
+      if (args.size() == 2 && args[1] == "--ply") {
+        EXPECT_EQ(what.rfind("--ply: ", 0), 0u) << what;
+      }
+    }
+  }
+}
+
 }  // namespace

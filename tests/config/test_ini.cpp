@@ -34,6 +34,32 @@ TEST(Ini, LoadsValuesAndKeepsDefaults) {
   EXPECT_EQ(o.mode, "exact");
 }
 
+struct PathOptions {
+  std::string path;
+  template <class V>
+  void visit(V& v) {
+    v("path", path, "a file");
+  }
+};
+
+std::string loadedPath(const std::string& value_line) {
+  PathOptions o;
+  gmc::cfg::loadSection(ini("[P]\npath = " + value_line + "\n"), "P", o);
+  return o.path;
+}
+
+// A comment starts only at the beginning of the value or after whitespace, as in MRPT:
+// '#', ';' and '//' inside a value are part of it (was: truncated at the first one).
+TEST(Ini, CommentMarkersInsideAValueArePartOfIt) {
+  EXPECT_EQ(loadedPath("/data/run#2/gt.txt"), "/data/run#2/gt.txt");
+  EXPECT_EQ(loadedPath("/data/a;b/gt.txt"), "/data/a;b/gt.txt");
+  EXPECT_EQ(loadedPath("http://host/gt.txt"), "http://host/gt.txt");
+  EXPECT_EQ(loadedPath("/data/run#2/gt.txt # the ground truth"), "/data/run#2/gt.txt");
+  EXPECT_EQ(loadedPath("/data/gt.txt ; comment"), "/data/gt.txt");
+  EXPECT_EQ(loadedPath("/data/gt.txt\t// comment # with ; markers"), "/data/gt.txt");
+  EXPECT_EQ(loadedPath("# only a comment"), "");
+}
+
 TEST(Ini, RejectsUnknownKeyNamingIt) {
   DemoOptions o;
   try {

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
-
+#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
 #include <cstdio>
@@ -84,6 +84,31 @@ TEST(Json, HasTheDocumentedKeys) {
   for (const char* key : {"\"ate\"", "\"rmse\"", "\"median\"", "\"pairs\"", "\"rpe\"",
                           "\"trans_rmse\"", "\"rot_rmse\""})
     EXPECT_NE(j.find(key), std::string::npos) << key;
+}
+
+// "delta_s" was written as 1.0 whatever delta the RPE used.
+TEST(Json, RecordsTheRpeDeltaThatWasUsed) {
+  const auto gt = circle(100, 4);
+  const auto j = nlohmann::json::parse(evaluationJson(computeAte(gt, gt), computeRpe(gt, gt, 0.5)));
+  EXPECT_EQ(j.at("rpe").at("delta_s").get<double>(), 0.5);
+  EXPECT_EQ(j.at("ate").at("pairs").get<size_t>(), 100u);
+  EXPECT_EQ(j.at("rpe").at("trans_rmse").get<double>(), 0.0);
+}
+
+// NaN and infinity have no JSON spelling: they are written as null (documented in
+// doc/evaluation.md), so the file stays valid JSON.
+TEST(Json, NonFiniteValuesAreNull) {
+  AteResult ate;
+  ate.error.rmse = std::numeric_limits<double>::quiet_NaN();
+  ate.error.max = std::numeric_limits<double>::infinity();
+  ate.pairs = 5;
+  RpeResult rpe;
+  rpe.rotation.median = std::numeric_limits<double>::quiet_NaN();
+  const auto j = nlohmann::json::parse(evaluationJson(ate, rpe));  // throws on invalid JSON
+  EXPECT_TRUE(j.at("ate").at("rmse").is_null());
+  EXPECT_TRUE(j.at("ate").at("max").is_null());
+  EXPECT_TRUE(j.at("rpe").at("rot_median").is_null());
+  EXPECT_EQ(j.at("ate").at("pairs").get<int>(), 5);
 }
 
 TEST(Plot, DrawsBothTrajectoriesAndTheErrorPanel) {

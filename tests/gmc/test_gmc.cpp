@@ -65,20 +65,27 @@ void expectFound(const std::vector<MoverCase>& cases, unsigned first_seed, doubl
     }
 }
 
-// Grid cells are 32 x 32 px at the default 20 x 15 grid on 640 x 480.
-TEST(Gmc, MoversAtLeastTwoCellsWideAreFoundWithHighPrecisionAndRecall) {
-  const std::vector<MoverCase> cases = {
+/// Movers both parameter sets must find (each test keeps its order of cases, so its seeds).
+std::vector<MoverCase> commonCases() {
+  return {
       {"walker 3 cells, 2 m, 1.0 m/s x", {box(300, 100, 96, 300, 2.0, 1.0, 0)}, 1},
       {"walker 1/3 image, 1.5 m, 1.5 m/s z", {box(200, 40, 213, 420, 1.5, 0, 1.5)}, 1},
       {"2 cells, 1 m, 0.5 m/s x", {box(64, 96, 64, 200, 1.0, 0.5, 0)}, 1},
-      {"4 cells, 3 m, 1.2 m/s diagonal", {box(400, 160, 128, 256, 3.0, 0.85, 0.85)}, 1},
       {"5 cells, 5 m, 1.5 m/s x, gap 3", {box(100, 150, 160, 200, 5.0, 1.5, 0)}, 3},
-      {"slow 0.2 m/s at 2 m, keyframe gap 10", {box(250, 120, 128, 300, 2.0, 0.2, 0)}, 10},
-      {"three movers",
-       {box(40, 120, 96, 280, 1.5, 1.0, 0), box(300, 60, 128, 360, 2.5, -0.8, 0.5),
-        box(500, 200, 100, 200, 4.0, 0, -1.5)},
-       3},
   };
+}
+
+std::vector<Mover> threeMovers() {
+  return {box(40, 120, 96, 280, 1.5, 1.0, 0), box(300, 60, 128, 360, 2.5, -0.8, 0.5),
+          box(500, 200, 100, 200, 4.0, 0, -1.5)};
+}
+
+// Grid cells are 32 x 32 px at the default 20 x 15 grid on 640 x 480.
+TEST(Gmc, MoversAtLeastTwoCellsWideAreFoundWithHighPrecisionAndRecall) {
+  std::vector<MoverCase> cases = commonCases();
+  cases.insert(cases.begin() + 3, {"4 cells, 3 m, 1.2 m/s diagonal", {box(400, 160, 128, 256, 3.0, 0.85, 0.85)}, 1});
+  cases.push_back({"slow 0.2 m/s at 2 m, keyframe gap 10", {box(250, 120, 128, 300, 2.0, 0.2, 0)}, 10});
+  cases.push_back({"three movers", threeMovers(), 3});
   expectFound(cases, 11, 0.5, syntheticParams());
 }
 
@@ -86,16 +93,8 @@ TEST(Gmc, MoversAtLeastTwoCellsWideAreFoundWithHighPrecisionAndRecall) {
 // at the keypoint noise of a real Kinect + GFTT pair (1 px). Movers must displace by more
 // than about 1.3 intervals between the compared frames (doc/gmc.md, detection limit).
 TEST(Gmc, DefaultParametersAtOnePixelNoise) {
-  const std::vector<MoverCase> cases = {
-      {"walker 3 cells, 2 m, 1.0 m/s x", {box(300, 100, 96, 300, 2.0, 1.0, 0)}, 1},
-      {"walker 1/3 image, 1.5 m, 1.5 m/s z", {box(200, 40, 213, 420, 1.5, 0, 1.5)}, 1},
-      {"2 cells, 1 m, 0.5 m/s x", {box(64, 96, 64, 200, 1.0, 0.5, 0)}, 1},
-      {"5 cells, 5 m, 1.5 m/s x, gap 3", {box(100, 150, 160, 200, 5.0, 1.5, 0)}, 3},
-      {"three movers, gap 3",
-       {box(40, 120, 96, 280, 1.5, 1.0, 0), box(300, 60, 128, 360, 2.5, -0.8, 0.5),
-        box(500, 200, 100, 200, 4.0, 0, -1.5)},
-       3},
-  };
+  std::vector<MoverCase> cases = commonCases();
+  cases.push_back({"three movers, gap 3", threeMovers(), 3});
   expectFound(cases, 101, 1.0, GmcParams{});
 }
 

@@ -2,6 +2,7 @@
 
 #include <mrpt/config/CConfigFile.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -16,6 +17,17 @@ std::string trim(const std::string& s) {
   if (b == std::string::npos) return "";
   const auto e = s.find_last_not_of(" \t\r\n");
   return s.substr(b, e - b + 1);
+}
+
+/// A comment ('#', ';' or '//') starts at the beginning of the value or after whitespace,
+/// as in MRPT; inside a value (`/data/run#2/gt.txt`, `http://...`) it is part of the value.
+std::string stripComment(const std::string& text) {
+  for (size_t pos = 0; pos < text.size(); ++pos) {
+    const bool marker = text[pos] == '#' || text[pos] == ';' || text.compare(pos, 2, "//") == 0;
+    if (marker && (pos == 0 || std::isspace(static_cast<unsigned char>(text[pos - 1]))))
+      return trim(text.substr(0, pos));
+  }
+  return text;
 }
 
 std::string formatNumber(double v) {
@@ -39,12 +51,7 @@ void SectionReader::fail(const char* key, const std::string& what) const {
 bool SectionReader::raw(const char* key, std::string& text) {
   known_.insert(key);
   if (!file_.keyExists(section_, key)) return false;
-  text = trim(file_.read_string(section_, key, "", false));
-  // MRPT keeps trailing "// comment" text in values; INI comments start with ';' or '#'.
-  for (const char* marker : {"//", ";", "#"}) {
-    const auto pos = text.find(marker);
-    if (pos != std::string::npos) text = trim(text.substr(0, pos));
-  }
+  text = stripComment(trim(file_.read_string(section_, key, "", false)));
   return true;
 }
 

@@ -1,12 +1,12 @@
 #include "gmc/datasets/evaluation.h"
 
+#include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 
 namespace gmc::datasets {
 
@@ -66,6 +66,7 @@ AteResult computeAte(const std::vector<StampedPose>& gt, const std::vector<Stamp
 RpeResult computeRpe(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est,
                      double delta) {
   RpeResult r;
+  r.delta_s = delta;
   if (gt.size() < 2 || est.size() < 2) return r;
   const auto gs = stampsOf(gt), es = stampsOf(est);
   // Ground-truth stamps further than twice the median ground-truth period are unmatched.
@@ -92,16 +93,25 @@ RpeResult computeRpe(const std::vector<StampedPose>& gt, const std::vector<Stamp
   return r;
 }
 
+namespace {
+/// NaN and infinity have no JSON spelling: null (doc/evaluation.md).
+nlohmann::ordered_json number(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr; }
+}  // namespace
+
 std::string evaluationJson(const AteResult& ate, const RpeResult& rpe) {
-  std::ostringstream os;
-  os.precision(9);
-  os << "{\n  \"ate\": {\"rmse\": " << ate.error.rmse << ", \"mean\": " << ate.error.mean
-     << ", \"median\": " << ate.error.median << ", \"max\": " << ate.error.max
-     << ", \"pairs\": " << ate.pairs << "},\n  \"rpe\": {\"trans_rmse\": " << rpe.translation.rmse
-     << ", \"trans_median\": " << rpe.translation.median << ", \"rot_rmse\": " << rpe.rotation.rmse
-     << ", \"rot_median\": " << rpe.rotation.median << ", \"pairs\": " << rpe.pairs
-     << ", \"delta_s\": 1.0}\n}\n";
-  return os.str();
+  nlohmann::ordered_json j;
+  j["ate"] = {{"rmse", number(ate.error.rmse)},
+              {"mean", number(ate.error.mean)},
+              {"median", number(ate.error.median)},
+              {"max", number(ate.error.max)},
+              {"pairs", ate.pairs}};
+  j["rpe"] = {{"trans_rmse", number(rpe.translation.rmse)},
+              {"trans_median", number(rpe.translation.median)},
+              {"rot_rmse", number(rpe.rotation.rmse)},
+              {"rot_median", number(rpe.rotation.median)},
+              {"pairs", rpe.pairs},
+              {"delta_s", number(rpe.delta_s)}};
+  return j.dump(2) + "\n";
 }
 
 namespace {

@@ -35,11 +35,25 @@ class GmsRun {
 
   /// Marks inliers for one left-grid shift, right-grid scale and rotation; returns count.
   int run(const Grid& left, const Grid& right, int rotation, std::vector<std::uint8_t>& inlier) {
-    const int n1 = left.cols * left.rows;
+    assignCells(left, right);
+    countPairs(left.cols * left.rows, static_cast<size_t>(right.cols * right.rows));
+    chooseBestPairs(left, right, rotation);
+    int count = 0;
+    for (size_t i = 0; i < matches_.size(); ++i)
+      if (best_[static_cast<size_t>(c1_[i])] == c2_[i]) {
+        if (!inlier[i]) ++count;
+        inlier[i] = 1;
+      }
+    return count;
+  }
+
+ private:
+  /// Cell of every match in both images; matches per left cell.
+  void assignCells(const Grid& left, const Grid& right) {
     const size_t m = matches_.size();
     c1_.resize(m);
     c2_.resize(m);
-    points_per_cell_.assign(static_cast<size_t>(n1), 0);
+    points_per_cell_.assign(static_cast<size_t>(left.cols * left.rows), 0);
     for (size_t i = 0; i < m; ++i) {
       const auto& a = kp1_[static_cast<size_t>(matches_[i].query)];
       const auto& b = kp2_[static_cast<size_t>(matches_[i].train)];
@@ -47,18 +61,22 @@ class GmsRun {
       c2_[i] = right.cell(b.x, b.y);
       ++points_per_cell_[static_cast<size_t>(c1_[i])];
     }
-    // Pair counts, grouped by left cell: a counting sort by left cell, then per left cell
-    // one pass with a counter per right cell (stamped, so it is never cleared): O(N + cells).
+  }
+
+  /// Pair counts, grouped by left cell: a counting sort by left cell, then per left cell
+  /// one pass with a counter per right cell (stamped, so it is never cleared): O(N + cells).
+  /// Afterwards the pairs (c2, count) of left cell a are pairs_[pair_start_[a] .. [a+1]).
+  void countPairs(int n1, size_t n2) {
+    const size_t m = matches_.size();
     pair_start_.assign(static_cast<size_t>(n1) + 1, 0);
     for (size_t i = 0; i < m; ++i) ++pair_start_[static_cast<size_t>(c1_[i]) + 1];
     for (int c = 0; c < n1; ++c) pair_start_[static_cast<size_t>(c) + 1] += pair_start_[static_cast<size_t>(c)];
     order_.resize(m);
     fill_.assign(pair_start_.begin(), pair_start_.end() - 1);
     for (size_t i = 0; i < m; ++i) order_[static_cast<size_t>(fill_[static_cast<size_t>(c1_[i])]++)] = static_cast<int>(i);
-    const size_t n2 = static_cast<size_t>(right.cols * right.rows);
     right_count_.assign(n2, 0);
     right_stamp_.assign(n2, -1);
-    pairs_.clear();  // (c2, count), contiguous per c1
+    pairs_.clear();
     for (int a = 0; a < n1; ++a) {
       const int first_pair = static_cast<int>(pairs_.size());
       for (int k = pair_start_[static_cast<size_t>(a)]; k < pair_start_[static_cast<size_t>(a) + 1]; ++k) {
@@ -73,12 +91,18 @@ class GmsRun {
       pair_start_[static_cast<size_t>(a)] = first_pair;
     }
     pair_start_[static_cast<size_t>(n1)] = static_cast<int>(pairs_.size());
-    auto pairCount = [&](int a, int b) {
-      for (int k = pair_start_[static_cast<size_t>(a)]; k < pair_start_[static_cast<size_t>(a) + 1]; ++k)
-        if (pairs_[static_cast<size_t>(k)][0] == b) return pairs_[static_cast<size_t>(k)][1];
-      return 0;
-    };
-    // Best right cell of every left cell, then its neighbourhood score.
+  }
+
+  int pairCount(int a, int b) const {
+    for (int k = pair_start_[static_cast<size_t>(a)]; k < pair_start_[static_cast<size_t>(a) + 1]; ++k)
+      if (pairs_[static_cast<size_t>(k)][0] == b) return pairs_[static_cast<size_t>(k)][1];
+    return 0;
+  }
+
+  /// Best right cell of every left cell, kept (best_) when its neighbourhood score passes
+  /// the alpha * sqrt(n) threshold; -1 otherwise.
+  void chooseBestPairs(const Grid& left, const Grid& right, int rotation) {
+    const int n1 = left.cols * left.rows;
     best_.assign(static_cast<size_t>(n1), -1);
     for (int a = 0; a < n1; ++a) {
       int best = -1, best_count = 0;
@@ -88,30 +112,28 @@ class GmsRun {
           best = pairs_[static_cast<size_t>(k)][0];
         }
       if (best < 0) continue;
-      const int ax = a % left.cols, ay = a / left.cols, bx = best % right.cols, by = best / right.cols;
-      double score = best_count, support = points_per_cell_[static_cast<size_t>(a)];
-      for (int r = 0; r < 8; ++r) {
-        const auto& da = kRing[static_cast<size_t>(r)];
-        const auto& db = kRing[static_cast<size_t>((r + rotation) % 8)];
-        const int nax = ax + da[0], nay = ay + da[1], nbx = bx + db[0], nby = by + db[1];
-        if (nax < 0 || nay < 0 || nax >= left.cols || nay >= left.rows) continue;
-        const int na = nay * left.cols + nax;
-        support += points_per_cell_[static_cast<size_t>(na)];
-        if (nbx < 0 || nby < 0 || nbx >= right.cols || nby >= right.rows) continue;
-        score += pairCount(na, nby * right.cols + nbx);
-      }
-      if (score > alpha_ * std::sqrt(support / 9.0)) best_[static_cast<size_t>(a)] = best;
+      if (neighbourhoodPasses(left, right, rotation, a, best, best_count)) best_[static_cast<size_t>(a)] = best;
     }
-    int count = 0;
-    for (size_t i = 0; i < m; ++i)
-      if (best_[static_cast<size_t>(c1_[i])] == c2_[i]) {
-        if (!inlier[i]) ++count;
-        inlier[i] = 1;
-      }
-    return count;
   }
 
- private:
+  /// Matches agreeing with the cell pair (a, b) and its 3x3 neighbourhood (the ring
+  /// rotated by `rotation` in the right image) against alpha * sqrt(mean points per cell).
+  bool neighbourhoodPasses(const Grid& left, const Grid& right, int rotation, int a, int b, int count) const {
+    const int ax = a % left.cols, ay = a / left.cols, bx = b % right.cols, by = b / right.cols;
+    double score = count, support = points_per_cell_[static_cast<size_t>(a)];
+    for (int r = 0; r < 8; ++r) {
+      const auto& da = kRing[static_cast<size_t>(r)];
+      const auto& db = kRing[static_cast<size_t>((r + rotation) % 8)];
+      const int nax = ax + da[0], nay = ay + da[1], nbx = bx + db[0], nby = by + db[1];
+      if (nax < 0 || nay < 0 || nax >= left.cols || nay >= left.rows) continue;
+      const int na = nay * left.cols + nax;
+      support += points_per_cell_[static_cast<size_t>(na)];
+      if (nbx < 0 || nby < 0 || nbx >= right.cols || nby >= right.rows) continue;
+      score += pairCount(na, nby * right.cols + nbx);
+    }
+    return score > alpha_ * std::sqrt(support / 9.0);
+  }
+
   const std::vector<GmsKeypoint>& kp1_;
   const std::vector<GmsKeypoint>& kp2_;
   const std::vector<GmsMatch>& matches_;

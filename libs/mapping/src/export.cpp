@@ -72,6 +72,8 @@ void forEachPixel(const cv::Mat& image, double origin_x, double origin_y, double
 
 }  // namespace
 
+// Not MRPT's PLY_Exporter: on MRPT 2.5.8 CPointCloudColoured writes zero coordinates and
+// CColouredPointsMap one "intensity" float instead of the colour (doc/mapping.md).
 size_t writePly(const octomap::OcTree& tree, const std::string& path, UpAxis up, PlyFormat format) {
   std::vector<Cell> cells;
   Bounds b;

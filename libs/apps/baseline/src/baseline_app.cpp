@@ -1,5 +1,6 @@
 #include "gmc/apps/baseline_app.h"
 
+#include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -7,6 +8,8 @@
 #include <cstdio>
 #include <iostream>
 
+#include "gmc/apps/command_line.h"
+#include "gmc/datasets/atomic_file.h"
 #include "gmc/datasets/camera.h"
 #include "gmc/datasets/source.h"
 #include "gmc/datasets/tum.h"
@@ -16,24 +19,22 @@ namespace gmc::apps {
 namespace {
 const char* kUsage =
     "usage: gmc-baseline-odometry <input.rawlog|tum_dir> --out TRAJ.txt "
-    "[--camera fr1|fr2|fr3|bonn|fx,fy,cx,cy] [--method rgbd|icp|rgbd_icp]";
+    "[--camera fr1|fr2|fr3|bonn|fx,fy,cx,cy] [--method rgbd|icp|rgbd_icp] [--json J.json]";
 }
 
 void BaselineApp::initialize(const std::vector<std::string>& args) {
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a == "--out" || a == "--camera" || a == "--method") {
-      if (i + 1 >= args.size()) throw AppError(a + " needs a value\n" + kUsage, 2);
-      (a == "--out" ? out_ : a == "--camera" ? camera_ : method_) = args[++i];
-    } else if (!a.empty() && a[0] == '-') {
-      throw AppError("unknown option '" + a + "'\n" + kUsage, 2);
-    } else if (input_.empty()) {
-      input_ = a;
-    } else {
-      throw AppError(kUsage, 2);
-    }
-  }
-  if (input_.empty() || out_.empty()) throw AppError(kUsage, 2);
+  TCLAP::CmdLine cmd("OpenCV's RGB-D odometry on the same frames", ' ', "", false);
+  TCLAP::UnlabeledValueArg<std::string> input("input", "rawlog or TUM folder", true, "", "input.rawlog|tum_dir", cmd);
+  TCLAP::ValueArg<std::string> out("", "out", "trajectory to write (TUM format)", true, "", "TRAJ.txt", cmd);
+  CameraArg camera(cmd, camera_);
+  TCLAP::ValueArg<std::string> method("", "method", "OpenCV odometry", false, method_, "rgbd|icp|rgbd_icp", cmd);
+  TCLAP::ValueArg<std::string> json("", "json", "frames, failures and median ms as JSON", false, "", "J.json", cmd);
+  parseCommandLine(cmd, "gmc-baseline-odometry", args, kUsage);
+  input_ = input.getValue();
+  out_ = out.getValue();
+  camera_ = camera.getValue();
+  method_ = method.getValue();
+  json_ = json.getValue();
 }
 
 int BaselineApp::run() {
@@ -78,6 +79,12 @@ int BaselineApp::run() {
   std::sort(ms.begin(), ms.end());
   std::printf("OpenCV %s odometry: %zu frames, %zu failed, %zu unreadable skipped, %.2f ms median per frame\n",
               method_.c_str(), trajectory.size(), failed, skipped, ms[ms.size() / 2]);
+  if (!json_.empty()) {
+    const nlohmann::ordered_json j = {{"method", method_},     {"frames", trajectory.size()},
+                                      {"failed", failed},      {"unreadable_skipped", skipped},
+                                      {"ms_median", ms[ms.size() / 2]}};
+    datasets::writeTextAtomic(json_, j.dump(2) + "\n");
+  }
   return 0;
 }
 

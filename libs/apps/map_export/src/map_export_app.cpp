@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "gmc/apps/command_line.h"
 #include "gmc/datasets/atomic_file.h"
 #include "gmc/mapping/export.h"
 
@@ -22,26 +23,28 @@ std::unique_ptr<octomap::OcTree> readMap(const std::string& path) {
 }
 }
 
+namespace {
+using StringArg = TCLAP::ValueArg<std::string>;
+}
+
 void MapExportApp::initialize(const std::vector<std::string>& args) {
-  std::string band, titles;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    std::string* target = a == "--ply" ? &ply_ : a == "--grid" ? &grid_ : a == "--grid-yaml" ? &grid_yaml_
-                        : a == "--scene" ? &scene_ : a == "--top-view" ? &top_view_ : a == "--up" ? &up_
-                        : a == "--height-band" ? &band : a == "--ply-format" ? &ply_format_
-                        : a == "--compare" ? &compare_ : a == "--titles" ? &titles : nullptr;
-    if (target) {
-      if (i + 1 >= args.size()) throw AppError(a + " needs a value\n" + kUsage, 2);
-      *target = args[++i];
-    } else if (!a.empty() && a[0] == '-') {
-      throw AppError("unknown option '" + a + "'\n" + kUsage, 2);
-    } else if (map_.empty()) {
-      map_ = a;
-    } else {
-      throw AppError(kUsage, 2);
-    }
-  }
-  if (map_.empty()) throw AppError(kUsage, 2);
+  TCLAP::CmdLine cmd("static map exports from an OctoMap", ' ', "", false);
+  TCLAP::UnlabeledValueArg<std::string> map("map", "OctoMap .bt file", true, "", "map.bt", cmd);
+  StringArg ply("", "ply", "occupied voxel centres as a coloured PLY", false, "", "OUT.ply", cmd);
+  StringArg grid("", "grid", "2-D occupancy grid (ROS map_server PNG)", false, "", "OUT.png", cmd);
+  StringArg grid_yaml("", "grid-yaml", "map_server YAML for --grid", false, "", "OUT.yaml", cmd);
+  StringArg band_arg("", "height-band", "height band of the grid and top view", false, "", "zmin,zmax", cmd);
+  StringArg scene("", "scene", "MRPT scene", false, "", "OUT.3Dscene", cmd);
+  StringArg top_view("", "top-view", "top view coloured by height", false, "", "OUT.png", cmd);
+  StringArg up("", "up", "world up axis", false, up_, "z|-y", cmd);
+  StringArg ply_format("", "ply-format", "PLY encoding", false, ply_format_, "binary|ascii", cmd);
+  StringArg compare("", "compare", "second map beside the first in --top-view", false, "", "OTHER.bt", cmd);
+  StringArg titles_arg("", "titles", "titles of the two top views", false, "", "A,B", cmd);
+  parseCommandLine(cmd, "gmc-map-export", args, kUsage);
+  map_ = map.getValue(), ply_ = ply.getValue(), grid_ = grid.getValue(), grid_yaml_ = grid_yaml.getValue();
+  scene_ = scene.getValue(), top_view_ = top_view.getValue(), up_ = up.getValue();
+  ply_format_ = ply_format.getValue(), compare_ = compare.getValue();
+  const std::string band = band_arg.getValue(), titles = titles_arg.getValue();
   if (ply_.empty() && grid_.empty() && scene_.empty() && top_view_.empty())
     throw AppError("nothing to export: give --ply, --grid, --scene or --top-view\n" + std::string(kUsage), 2);
   if (!grid_yaml_.empty() && grid_.empty()) throw AppError("--grid-yaml needs --grid", 2);

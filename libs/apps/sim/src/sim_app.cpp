@@ -6,6 +6,7 @@
 #include <fstream>
 #include <unistd.h>
 
+#include "gmc/apps/command_line.h"
 #include "gmc/config/ini.h"
 #include "gmc/datasets/atomic_file.h"
 #include "gmc/datasets/rawlog.h"
@@ -18,14 +19,11 @@ namespace fs = std::filesystem;
 namespace {
 const char* kUsage = "usage: gmc-sim <config.ini> --out DIR [--seed N] [--frames N] [--preview I]";
 
-int parseInt(const std::string& flag, const std::string& text) {
-  try {
-    size_t pos = 0;
-    const int v = std::stoi(text, &pos);
-    if (pos == text.size() && v >= 0) return v;
-  } catch (const std::exception&) {
-  }
-  throw AppError(flag + ": '" + text + "' is not a non-negative integer\n" + kUsage, 2);
+int nonNegative(const TCLAP::ValueArg<int>& arg, int unset) {
+  if (!arg.isSet()) return unset;
+  if (arg.getValue() < 0)
+    throw AppError("--" + arg.getName() + ": " + std::to_string(arg.getValue()) + " is negative; " + kUsage, 2);
+  return arg.getValue();
 }
 
 /// Removes the folder being assembled unless the run completed (no half-written output).
@@ -71,24 +69,18 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
 }  // namespace
 
 void SimApp::initialize(const std::vector<std::string>& args) {
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a == "--out" || a == "--seed" || a == "--frames" || a == "--preview") {
-      if (i + 1 >= args.size()) throw AppError(a + " needs a value\n" + kUsage, 2);
-      const std::string& v = args[++i];
-      if (a == "--out") out_ = v;
-      else if (a == "--seed") seed_ = parseInt(a, v);
-      else if (a == "--preview") preview_ = parseInt(a, v);
-      else frames_ = parseInt(a, v);
-    } else if (!a.empty() && a[0] == '-') {
-      throw AppError("unknown option '" + a + "'\n" + kUsage, 2);
-    } else if (config_.empty()) {
-      config_ = a;
-    } else {
-      throw AppError(kUsage, 2);
-    }
-  }
-  if (config_.empty() || out_.empty()) throw AppError(kUsage, 2);
+  TCLAP::CmdLine cmd("synthetic dynamic RGB-D sequence with ground truth", ' ', "", false);
+  TCLAP::UnlabeledValueArg<std::string> config("config", "scenario INI", true, "", "config.ini", cmd);
+  TCLAP::ValueArg<std::string> out("", "out", "output folder", true, "", "DIR", cmd);
+  TCLAP::ValueArg<int> seed("", "seed", "random seed (overrides the INI)", false, 0, "N", cmd);
+  TCLAP::ValueArg<int> frames("", "frames", "frame count (overrides the INI)", false, 0, "N", cmd);
+  TCLAP::ValueArg<int> preview("", "preview", "write preview.png of frame I", false, 0, "I", cmd);
+  parseCommandLine(cmd, "gmc-sim", args, kUsage);
+  config_ = config.getValue();
+  out_ = out.getValue();
+  seed_ = nonNegative(seed, -1);
+  frames_ = nonNegative(frames, -1);
+  preview_ = nonNegative(preview, -1);
   if (frames_ == 0) throw AppError("--frames: must be at least 1", 2);
 }
 

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "gmc/apps/command_line.h"
 #include "gmc/datasets/camera.h"
 #include "gmc/datasets/rawlog.h"
 #include "gmc/datasets/source.h"
@@ -20,22 +21,16 @@ const char* kUsage =
 }
 
 void Tum2RawlogApp::initialize(const std::vector<std::string>& args) {
-  std::vector<std::string> positional;
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--camera") {
-      if (i + 1 >= args.size()) throw AppError("--camera needs a value\n" + std::string(kUsage), 2);
-      camera_ = args[++i];
-    } else if (args[i] == "--externalize") {
-      externalize_ = true;
-    } else if (!args[i].empty() && args[i][0] == '-') {
-      throw AppError("unknown option '" + args[i] + "'\n" + kUsage, 2);
-    } else {
-      positional.push_back(args[i]);
-    }
-  }
-  if (positional.size() != 2) throw AppError(kUsage, 2);
-  input_ = positional[0];
-  output_ = positional[1];
+  TCLAP::CmdLine cmd("TUM/Bonn folder to MRPT rawlog", ' ', "", false);
+  TCLAP::UnlabeledValueArg<std::string> input("tum_dir", "TUM-layout folder", true, "", "tum_dir", cmd);
+  TCLAP::UnlabeledValueArg<std::string> output("out", "rawlog to write", true, "", "out.rawlog", cmd);
+  CameraArg camera(cmd, camera_);
+  TCLAP::SwitchArg externalize("", "externalize", "images in <name>_Images/ next to the rawlog", cmd);
+  parseCommandLine(cmd, "gmc-tum2rawlog", args, kUsage);
+  input_ = input.getValue();
+  output_ = output.getValue();
+  camera_ = camera.getValue();
+  externalize_ = externalize.getValue();
 }
 
 int Tum2RawlogApp::run() {

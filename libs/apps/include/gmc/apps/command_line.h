@@ -1,5 +1,7 @@
 #pragma once
 // TCLAP for the apps' command lines: errors become AppError (exit code 2) with the usage.
+// Two forms: the CommandLine class (usage on its own line, -h/--help) and
+// parseCommandLine() on a TCLAP::CmdLine (one line, no --help).
 #include <tclap/CmdLine.h>
 
 #include <string>
@@ -26,6 +28,20 @@ class CommandLine {
   std::string app_name_, usage_;
   TCLAP::CmdLine cmd_;
   TCLAP::SwitchArg help_;
+};
+
+/// Parses `args` (without the program name). Throws AppError (exit code 2) naming the
+/// argument and ending with `usage`, on one line.
+void parseCommandLine(TCLAP::CmdLine& cmd, const std::string& program, const std::vector<std::string>& args,
+                      const std::string& usage);
+
+/// --camera PRESET|fx,fy,cx,cy, shared by the apps that read TUM folders
+/// (datasets::cameraPreset() checks the value).
+class CameraArg : public TCLAP::ValueArg<std::string> {
+ public:
+  CameraArg(TCLAP::CmdLine& cmd, const std::string& default_preset)
+      : TCLAP::ValueArg<std::string>("", "camera", "intrinsics preset or fx,fy,cx,cy", false, default_preset,
+                                     "fr1|fr2|fr3|bonn|fx,fy,cx,cy", cmd) {}
 };
 
 }  // namespace gmc::apps

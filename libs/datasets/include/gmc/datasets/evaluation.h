@@ -34,6 +34,7 @@ struct RpeResult {
   ErrorStats translation;            ///< m
   ErrorStats rotation;               ///< deg
   size_t pairs = 0;
+  double delta_s = 1.0;              ///< the delta the pairs were taken over (s)
 };
 RpeResult computeRpe(const std::vector<StampedPose>& groundtruth,
                      const std::vector<StampedPose>& estimate, double delta = 1.0);
@@ -55,7 +56,8 @@ struct BinaryScore {
   }
 };
 
-/// JSON of both results (keys ate.rmse, ate.median, ate.pairs, rpe.trans_rmse, ...).
+/// JSON of both results (keys ate.rmse, ate.median, ate.pairs, rpe.trans_rmse, ...,
+/// rpe.delta_s); NaN and infinite values are null.
 std::string evaluationJson(const AteResult& ate, const RpeResult& rpe);
 
 /// Top view of ground truth and aligned estimate (plane of largest extent) above the

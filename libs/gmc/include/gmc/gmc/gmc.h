@@ -98,10 +98,15 @@ struct GmcResult {
 };
 
 /// Grid-based motion clustering. Keeps its buffers between calls (no allocation
-/// in steady state); not thread-safe, use one per thread.
+/// in steady state); not thread-safe, use one per thread: a copy has its own buffers.
 class GmcClassifier {
  public:
   explicit GmcClassifier(const GmcParams& params = {});
+  ~GmcClassifier();
+  GmcClassifier(const GmcClassifier& other);  ///< same parameters, new buffers
+  GmcClassifier& operator=(const GmcClassifier& other);
+  GmcClassifier(GmcClassifier&&) noexcept;
+  GmcClassifier& operator=(GmcClassifier&&) noexcept;
   const GmcParams& params() const { return params_; }
 
   /// T_ref_cur: initial guess of the camera motion, mapping current-frame points into
@@ -116,9 +121,9 @@ class GmcClassifier {
 
  private:
   GmcParams params_;
-  // implementation state lives here (buffers reused across frames)
+  // implementation state lives here (buffers reused across frames), one per instance
   struct Workspace;
-  std::shared_ptr<Workspace> ws_;
+  std::unique_ptr<Workspace> ws_;
 };
 
 }  // namespace gmc
