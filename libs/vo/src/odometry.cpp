@@ -216,16 +216,17 @@ RefinementResult RgbdOdometry::refineOnBackground(const Isometry& T_world_guess,
     const size_t cur_index = static_cast<size_t>(track_.cur_index[k]);
     MotionLabel& label = out.keypoint_labels[cur_index];
     label = choice_.gmc.labels[k];
-    // A landmark seen moving (or a remembered walker) stays out of the pose even when
-    // it stands still in this frame.
-    if (label == MotionLabel::Static && track_.trust.weight[k] <= 0) label = MotionLabel::Dynamic;
     if (label == MotionLabel::Dynamic) {
       ++out.num_dynamic;
-      if (choice_.gmc.labels[k] == MotionLabel::Dynamic) fresh_dynamic_[cur_index] = 1;
+      fresh_dynamic_[cur_index] = 1;
       continue;
     }
     if (label != MotionLabel::Static) continue;
     ++out.num_static;
+    // A landmark seen moving (or a remembered walker) stays out of the pose even when
+    // it stands still in this frame; its label stays GMC's (a depth-edge corner that
+    // flipped is background for the mask).
+    if (track_.trust.weight[k] <= 0) continue;
     const auto& m = track_.motion[k];
     obs.push_back({map_[track_.landmark[k]].position, m.pixel.cast<double>(), m.point_cur.z(),
                    track_.trust.weight[k]});

@@ -22,7 +22,7 @@ struct OdometryOptions {
   int min_matches = 30;                 ///< fewer map matches: retry with a wider window
   int wide_match_radius = 100;          ///< px, second attempt of guided matching
   bool use_motion_model = true;         ///< constant-velocity prediction
-  bool motion_prior = true;             ///< the prediction also joins the refinement as a
+  bool motion_prior = false;            ///< the prediction also joins the refinement as a
                                         ///< Gaussian prior ([Background] prior_* widths)
   bool previous_frame_labels = true;    ///< also run GMC against the previous frame, so
                                         ///< walkers too fast to match to the map are
