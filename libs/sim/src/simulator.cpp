@@ -32,6 +32,7 @@ using detail::Rng;
 using detail::Shape;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kOfficeBack = 2.0;  ///< y of the office's back wall (the tiled room's is 3)
 
 /// Ray r(t) = o + t d (d need not be unit). Returns the nearest t > eps or +inf.
 double intersect(const Primitive& p, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
@@ -163,6 +164,7 @@ struct Simulator::Scene {
   Eigen::Vector3d camera_base;
   std::vector<double> handheld_phase;  // per axis and harmonic
   Eigen::Vector2d walk_from = Eigen::Vector2d::Zero(), walk_to = Eigen::Vector2d::Zero();  ///< style walk
+  double walk_far = 1.5;  ///< y of the farthest walking path (clear of the back furniture)
 };
 
 SimOptions SimOptions::exact() {
@@ -219,32 +221,33 @@ class RoomBuilder {
   /// An office like the Bonn recordings': bare white walls and ceiling, a pale speckled
   /// floor, a cable duct with sockets at 1 m, texture only on furniture below ~1.1 m
   /// (tables, chairs, cabinets, boxes) and on one small marker.
-  void office(std::array<Material, 6>& faces) {
+  void office(std::array<Material, 6>& faces, double back) {
     for (int f = 0; f < 6; ++f)
       faces[static_cast<size_t>(f)] = detail::randomMaterial(rng_, Pattern::Paint, 1.0, 0.1, 0.15, 0.05, 0.93, 0);
     faces[4] = detail::randomMaterial(rng_, Pattern::Speckle, 0.012, 0.55, 0.62, 0.12, 0.8, 0);
-    tables(0.3, 1.6, 1.8);  // nearer than in the tiled room: 4-4.5 m from the camera
+    tables(0.3, back - 0.95, back - 0.85);  // 3.5 m from the camera at rest
     const Material duct = detail::randomMaterial(rng_, Pattern::Paint, 1.0, 0.1, 0.15, 0.03, 0.88, 0);
-    box({-3.97, 2.94, 0.95}, {3.97, 3.0, 1.07}, duct);
+    box({-3.97, back - 0.06, 0.95}, {3.97, back, 1.07}, duct);
     for (int side : {-1, 1}) {
-      box({side > 0 ? 3.94 : -4.0, -2.9, 0.95}, {side > 0 ? 4.0 : -3.94, 2.9, 1.07}, duct);
-      box({side * 4.0 - (side > 0 ? 0.5 : 0.0), 0.5, 0}, {side * 4.0 + (side > 0 ? 0 : 0.5), 1.6, 1.0},
+      box({side > 0 ? 3.94 : -4.0, -2.9, 0.95}, {side > 0 ? 4.0 : -3.94, back - 0.1, 1.07}, duct);
+      box({side * 4.0 - (side > 0 ? 0.5 : 0.0), back - 1.5, 0}, {side * 4.0 + (side > 0 ? 0 : 0.5), back - 0.4, 1.0},
           furniture(rng_.uniform(0.1, 0.2), 0.3));  // low cabinets
     }
     for (int i = 0; i < 8; ++i) {  // sockets along the duct
       const double x = -3.5 + i + rng_.uniform(0, 0.4);
-      box({x, 2.92, 0.97}, {x + 0.16, 2.94, 1.05}, furniture(0.04, 0.1));
+      box({x, back - 0.08, 0.97}, {x + 0.16, back - 0.06, 1.05}, furniture(0.04, 0.1));
     }
     for (int i = 0; i < 4; ++i) {  // office chairs at the tables, boxes on the floor
-      const double x = -3.0 + 1.8 * i + rng_.uniform(-0.3, 0.3), y = rng_.uniform(1.35, 1.55);
+      const double x = -3.0 + 1.8 * i + rng_.uniform(-0.3, 0.3), y = back - rng_.uniform(1.25, 1.1);
       const Material seat = furniture(0.05, 0.15);
       box({x, y, 0.42}, {x + 0.45, y + 0.45, 0.5}, seat);
       box({x, y + 0.4, 0.5}, {x + 0.45, y + 0.47, 1.0}, seat);
       box({x + 0.2, y + 0.2, 0}, {x + 0.25, y + 0.25, 0.42}, seat);
-      box({x + 0.6, 2.5, 0}, {x + 0.6 + rng_.uniform(0.3, 0.5), 2.9, rng_.uniform(0.2, 0.4)}, furniture(0.08));
+      box({x + 0.6, back - 0.5, 0}, {x + 0.6 + rng_.uniform(0.3, 0.5), back - 0.1, rng_.uniform(0.2, 0.4)},
+          furniture(0.08));
     }
     const double mx = rng_.uniform(-1.5, 1.5);  // one small marker on the back wall
-    box({mx, 2.97, 2.0}, {mx + 0.25, 3.0, 2.25}, detail::randomMaterial(rng_, Pattern::Poster, 0.1, 0, 1, 0.1, 0.9, 0.2));
+    box({mx, back - 0.03, 2.0}, {mx + 0.25, back, 2.25}, detail::randomMaterial(rng_, Pattern::Poster, 0.1, 0, 1, 0.1, 0.9, 0.2));
   }
 
  private:
@@ -278,11 +281,14 @@ Simulator::Simulator(const SimOptions& options) : options_(options), scene_(std:
   Rng rng{mix(static_cast<std::uint64_t>(options.simulator.seed) + 17)};
   // Room 8 x 6 x 2.8 m, camera side at y = -3.
   Primitive room;
-  room.a = Eigen::Vector3d(-4, -3, 0), room.b = Eigen::Vector3d(4, 3, 2.8);
+  // The office is shallower (back wall 4.4 m from the camera), as the Bonn office.
+  const bool office = options.room.style == "office";
+  room.a = Eigen::Vector3d(-4, -3, 0), room.b = Eigen::Vector3d(4, office ? kOfficeBack : 3.0, 2.8);
   room.inside = true;
   scene_->statics.push_back(room);
+  scene_->walk_far = office ? kOfficeBack - 1.5 : 1.5;
   RoomBuilder builder(scene_->statics, rng);
-  if (options.room.style == "office") builder.office(scene_->room_faces);
+  if (office) builder.office(scene_->room_faces, kOfficeBack);
   else builder.tiledRoom(scene_->room_faces);
   scene_->camera_base = Eigen::Vector3d(0, -2.4, options.trajectory.height);
   addWalkers(rng);
@@ -305,7 +311,8 @@ void Simulator::addWalkers(Rng& rng) {
   // never onto a neighbour's path.
   const double spacing = po.walkers > 1 ? (po.distance_max - po.distance_min) / (po.walkers - 1) : kInf;
   const double slant = std::min(0.5 * po.path_slant, 0.3 * spacing);
-  const double corridor_near = scene_->camera_base.y() + std::min(0.5, po.distance_min), corridor_far = 1.5;
+  const double corridor_near = scene_->camera_base.y() + std::min(0.5, po.distance_min);
+  const double corridor_far = scene_->walk_far;
   const bool follow = options_.trajectory.style == "follow";
   for (int w = 0; w < po.walkers; ++w) {
     Person p;

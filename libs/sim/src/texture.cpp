@@ -108,9 +108,9 @@ Eigen::Vector3d paint(const Material& m, double s, double t) {
 }
 
 Eigen::Vector3d speckle(const Material& m, double s, double t) {
-  // Flecks of m.scale in 15 % of the cells: visible at 1-2 m, blurred to grey farther away.
+  // Flecks of m.scale in 10 % of the cells: visible at 1-2 m, blurred to grey farther away.
   const std::uint64_t h = hash(m.seed, cell(s / m.scale), cell(t / m.scale), 21);
-  const double fleck = unit(h) < 0.15 ? 0.6 + 0.25 * unit(mix(h)) : 1.0;
+  const double fleck = unit(h) < 0.10 ? 0.65 + 0.25 * unit(mix(h)) : 1.0;
   return hsvToRgb(m.hue, m.saturation, m.value * fleck);
 }
 
