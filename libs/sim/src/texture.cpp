@@ -116,10 +116,12 @@ Eigen::Vector3d speckle(const Material& m, double s, double t) {
 
 Eigen::Vector3d plainCloth(const Material& m, double s, double t) {
   // One colour per garment; darker seams along it every ~30 cm and a hem or two across,
-  // folds as broad shading, and on some garments a print (a block of a second colour).
+  // and on some garments a print (a block of a second colour).
   const Eigen::Vector3d base = paletteColour(m, hash(m.seed, 30));
   const double seam_s = std::abs(std::remainder(s, 0.3)), seam_t = std::abs(std::remainder(t - 0.1, 0.4));
-  double shade = 0.75 + 0.45 * valueNoise(m.seed + 1, s / 0.12, t / 0.2);
+  // Folds (12 x 20 cm) and a knit / weave grain (2.5 cm) that only a near camera resolves.
+  double shade = (0.75 + 0.45 * valueNoise(m.seed + 1, s / 0.12, t / 0.2)) *
+                 (0.8 + 0.4 * valueNoise(m.seed + 2, s / 0.025, t / 0.025));
   if (seam_s < 0.006 || seam_t < 0.006) shade *= 0.6;
   const std::uint64_t h = hash(m.seed, 31);
   if (unit(h) < 0.4 && std::abs(s - 0.05) < 0.07 && std::abs(t - 0.3) < 0.06) return paletteColour(m, mix(h)) * 1.2;
