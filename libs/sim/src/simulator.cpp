@@ -463,6 +463,25 @@ Rect screenRect(const Primitive& p, const Isometry& T_wc, const CameraOptions& c
           std::min(co.width, static_cast<int>(u + ru) + 1), std::min(co.height, static_cast<int>(v + rv) + 1)};
 }
 
+/// Nearest primitive along every ray of rows first, first + step, ... (each primitive
+/// tested only inside its screen rectangle): depth into zbuf, primitive index into ids.
+void castRays(const std::vector<Primitive>& prims, const std::vector<Rect>& rects, const Eigen::Vector3d& o,
+              const std::vector<Eigen::Vector3d>& rays, int first, int step, cv::Mat& zbuf, cv::Mat& ids) {
+  const int W = zbuf.cols;
+  for (size_t k = 0; k < prims.size(); ++k) {
+    const Rect& rc = rects[k];
+    const int v_start = rc.v0 + ((first - rc.v0) % step + step) % step;  // first own row >= v0
+    for (int v = v_start; v < rc.v1; v += step) {
+      double* z = zbuf.ptr<double>(v);
+      int* id = ids.ptr<int>(v);
+      for (int u = rc.u0; u < rc.u1; ++u) {
+        const double t = intersect(prims[k], o, rays[static_cast<size_t>(v * W + u)]);
+        if (t < z[u]) z[u] = t, id[u] = static_cast<int>(k);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 /// One noise-free view: colour (CV_64FC3, BGR 0-255), depth (CV_64F, m, 0 = nothing),
@@ -499,18 +518,7 @@ Simulator::View Simulator::renderView(double time, const Isometry& T_wc) const {
     for (int v = first; v < H; v += step)
       for (int u = 0; u < W; ++u)
         rays[static_cast<size_t>(v * W + u)] = R * Eigen::Vector3d((u - co.cx) / co.fx, (v - co.cy) / co.fy, 1.0);
-    for (size_t k = 0; k < prims.size(); ++k) {
-      const Rect& rc = rects[k];
-      const int v_start = rc.v0 + ((first - rc.v0) % step + step) % step;  // first own row >= v0
-      for (int v = v_start; v < rc.v1; v += step) {
-        double* z = zbuf.ptr<double>(v);
-        int* id = ids.ptr<int>(v);
-        for (int u = rc.u0; u < rc.u1; ++u) {
-          const double t = intersect(prims[k], o, rays[static_cast<size_t>(v * W + u)]);
-          if (t < z[u]) z[u] = t, id[u] = static_cast<int>(k);
-        }
-      }
-    }
+    castRays(prims, rects, o, rays, first, step, zbuf, ids);
     // Shade each pixel once, from its nearest surface.
     for (int v = first; v < H; v += step) {
       for (int u = 0; u < W; ++u) {
