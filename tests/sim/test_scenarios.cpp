@@ -4,6 +4,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <mrpt/config/CConfigFileMemory.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <vector>
@@ -211,6 +213,27 @@ TEST(Scenarios, OfficeWallsAreBareAboveTheFurniture) {
   std::printf("  GFTT corners in the top third: office %ld, tiled room %ld\n", static_cast<long>(office),
               static_cast<long>(tiles));
   EXPECT_LT(office * 5, tiles);
+}
+
+TEST(Scenarios, InconsistentNewKeysAreNamedErrors) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"[People]\ngroup = 2\n", "group"},
+      {"[Trajectory]\nstyle = follow\n[People]\nwalkers = 0\n", "follow"},
+      {"[Room]\nstyle = castle\n", "style"},
+      {"[Room]\nwindows = 3\n", "windows"},
+      {"[People]\nclothes = fur\n", "clothes"},
+      {"[Sensor]\nblur_samples = 1\n", "blur_samples"},
+  };
+  for (const auto& [text, key] : cases) {
+    const mrpt::config::CConfigFileMemory ini(text);
+    try {
+      gmc::sim::loadSimOptions(ini, "test.ini");
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const gmc::cfg::ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("test.ini"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace
