@@ -10,18 +10,13 @@
 #include "gmc/config/ini.h"
 #include "gmc/sim/sim_config.h"
 #include "gmc/sim/simulator.h"
+#include "sim_test_helpers.h"
 
 namespace {
 
 using gmc::sim::SimOptions;
 using gmc::sim::Simulator;
 
-/// Quarter-resolution camera keeps the tests fast; geometry is the same.
-SimOptions small(SimOptions o) {
-  o.camera.width = 160, o.camera.height = 120;
-  o.camera.fx /= 4, o.camera.fy /= 4, o.camera.cx = (o.camera.cx + 0.5) / 4 - 0.5, o.camera.cy = (o.camera.cy + 0.5) / 4 - 0.5;
-  return o;
-}
 
 /// True when the 3 x 3 pixels around (x, y) lie on one plane: 1/z is affine there, so all
 /// second differences vanish (a step between two parallel planes does not).
@@ -50,12 +45,14 @@ double interpolateDepth(const cv::Mat& m, double u, double v, bool& smooth) {
   return 1.0 / ((1 / a * (1 - fx) + 1 / b * fx) * (1 - fy) + (1 / c * (1 - fx) + 1 / d * fx) * fy);
 }
 
-TEST(Simulator, StaticPixelsReprojectIntoOtherFramesExactly) {
-  for (const char* style : {"xyz", "rpy", "halfsphere", "handheld"}) {
-    SimOptions o = small(SimOptions::exact());
-    o.trajectory.style = style;
+}  // namespace
+
+/// Static pixels of frame i, back-projected with their depth and ground-truth pose and
+/// projected into frame j, land where frame j sees the same surface (noise-free options).
+void expectStaticPixelsReprojectExactly(const SimOptions& o, const std::string& name, int i, int j) {
+  {
     const Simulator sim(o);
-    const int i = 3, j = 17;
+    const char* style = name.c_str();
     const auto fi = sim.renderFrame(i), fj = sim.renderFrame(j);
     const gmc::Isometry T_j_i = fj.T_world_camera.inverse() * fi.T_world_camera;
     const auto& cam = fi.frame.camera;
@@ -83,11 +80,21 @@ TEST(Simulator, StaticPixelsReprojectIntoOtherFramesExactly) {
         worst_depth = std::max(worst_depth, std::abs(zj - Xj.z()));
         ++checked;
       }
-    std::printf("  %-10s %d static pixels checked: worst reprojection %.4f px, depth %.5f m\n", style,
-                checked, worst_px, worst_depth);
+    std::printf("  %-15s frames %d -> %d: %d static pixels checked: worst reprojection %.4f px, depth %.5f m\n", style,
+                i, j, checked, worst_px, worst_depth);
     EXPECT_GT(checked, 300) << style;
     EXPECT_LT(worst_px, 0.5) << style;
     EXPECT_LT(worst_depth, 0.001) << style;
+  }
+}
+
+namespace {
+
+TEST(Simulator, StaticPixelsReprojectIntoOtherFramesExactly) {
+  for (const char* style : {"xyz", "rpy", "halfsphere", "handheld", "follow", "walk"}) {
+    SimOptions o = small(SimOptions::exact());
+    o.trajectory.style = style;
+    expectStaticPixelsReprojectExactly(o, style);
   }
 }
 
@@ -325,7 +332,7 @@ TEST(SimConfig, ShippedScenariosLoadAndTheReferenceListsEveryKey) {
     EXPECT_NO_THROW(gmc::sim::loadSimOptions(ini, e.path().string())) << e.path();
     ++scenarios;
   }
-  EXPECT_GE(scenarios, 6);
+  EXPECT_GE(scenarios, 11);
   // walkers_xyz.ini documents every key: each section holds all of its struct's keys.
   const auto ini = gmc::cfg::loadIniFile(GMC_SOURCE_DIR "/config/sim/walkers_xyz.ini");
   SimOptions o;
@@ -340,6 +347,7 @@ TEST(SimConfig, ShippedScenariosLoadAndTheReferenceListsEveryKey) {
   check("Trajectory", o.trajectory);
   check("People", o.people);
   check("Sensor", o.sensor);
+  check("Room", o.room);
 }
 
 }  // namespace

@@ -102,6 +102,32 @@ Eigen::Vector3d skin(const Material& m, double s, double t) {
   return hsvToRgb(m.hue, m.saturation, m.value);
 }
 
+Eigen::Vector3d paint(const Material& m, double s, double t) {
+  // Broad shading (light falling off over metres), no detail a corner detector could use.
+  return hsvToRgb(m.hue, m.saturation, m.value * (0.94 + 0.06 * valueNoise(m.seed, s / 1.5, t / 1.5)));
+}
+
+Eigen::Vector3d speckle(const Material& m, double s, double t) {
+  // Flecks of m.scale in 10 % of the cells: visible at 1-2 m, blurred to grey farther away.
+  const std::uint64_t h = hash(m.seed, cell(s / m.scale), cell(t / m.scale), 21);
+  const double fleck = unit(h) < 0.10 ? 0.65 + 0.25 * unit(mix(h)) : 1.0;
+  return hsvToRgb(m.hue, m.saturation, m.value * fleck);
+}
+
+Eigen::Vector3d plainCloth(const Material& m, double s, double t) {
+  // One colour per garment; darker seams along it every ~30 cm and a hem or two across,
+  // and on some garments a print (a block of a second colour).
+  const Eigen::Vector3d base = paletteColour(m, hash(m.seed, 30));
+  const double seam_s = std::abs(std::remainder(s, 0.3)), seam_t = std::abs(std::remainder(t - 0.1, 0.4));
+  // Folds (12 x 20 cm) and a knit / weave grain (2.5 cm) that only a near camera resolves.
+  double shade = (0.75 + 0.45 * valueNoise(m.seed + 1, s / 0.12, t / 0.2)) *
+                 (0.8 + 0.4 * valueNoise(m.seed + 2, s / 0.025, t / 0.025));
+  if (seam_s < 0.006 || seam_t < 0.006) shade *= 0.6;
+  const std::uint64_t h = hash(m.seed, 31);
+  if (unit(h) < 0.4 && std::abs(s - 0.05) < 0.07 && std::abs(t - 0.3) < 0.06) return paletteColour(m, mix(h)) * 1.2;
+  return base * shade;
+}
+
 }  // namespace
 
 Material randomMaterial(Rng& rng, Pattern pattern, double scale, double hue_lo, double hue_hi,
@@ -124,6 +150,9 @@ Eigen::Vector3d textureColour(const Material& m, double s, double t, double widt
     case Pattern::Poster: c = poster(m, s, t, width, height); break;
     case Pattern::Cloth: c = cloth(m, s, t); break;
     case Pattern::Skin: c = skin(m, s, t); break;
+    case Pattern::Paint: return paint(m, s, t);
+    case Pattern::Speckle: return speckle(m, s, t);
+    case Pattern::PlainCloth: c = plainCloth(m, s, t); break;
   }
   // Fine smooth noise everywhere: no flat patch, so gradients exist for dense methods too.
   return c * (0.82 + 0.36 * valueNoise(m.seed, s / 0.08, t / 0.08));

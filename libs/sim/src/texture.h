@@ -16,6 +16,9 @@ enum class Pattern : std::uint8_t {
   Poster,  ///< paper with a picture of rectangles and discs above lines of glyphs
   Cloth,   ///< checker of two colours, per-patch brightness (people's clothes)
   Skin,    ///< skin tone with a darker hair cap (heads)
+  Paint,   ///< bare painted wall: one colour, faint broad shading only
+  Speckle, ///< pale floor covering with small dark flecks (corners only up close)
+  PlainCloth,  ///< solid cloth with seams, hems, broad folds and a pocket or print
 };
 
 struct Material {

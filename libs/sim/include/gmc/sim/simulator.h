@@ -12,6 +12,10 @@
 #include "gmc/datasets/frame.h"
 
 namespace gmc::sim {
+namespace detail {
+struct Rng;
+struct PathState;
+}  // namespace detail
 
 /// [Simulator]
 struct SimulatorOptions {
@@ -47,20 +51,29 @@ struct CameraOptions {
 
 /// [Trajectory]
 struct TrajectoryOptions {
-  std::string style = "xyz";     ///< static | xyz | rpy | halfsphere | handheld
-  double amplitude = 0.25;       ///< m, translation amplitude (xyz, handheld)
-  double rotation = 15.0;        ///< deg, rotation amplitude (rpy, handheld)
+  std::string style = "xyz";     ///< static | xyz | rpy | halfsphere | handheld | follow | walk
+  double amplitude = 0.25;       ///< m, translation amplitude (xyz, handheld, follow's shake)
+  double rotation = 15.0;        ///< deg, rotation amplitude (rpy, handheld, follow's shake)
   double period = 8.0;           ///< s, main period of the motion
   double radius = 2.8;           ///< m, halfsphere radius around the room centre
   double height = 1.4;           ///< m, camera height
+  double tilt = 0;               ///< deg, optical axis pointed down (all styles but halfsphere)
+  double follow_distance = 1.5;  ///< m, follow: camera behind the first walker's path
+  double walk_span = 4.0;        ///< m, walk: the camera walks back and forth along x over this
+  double walk_speed = 1.0;       ///< m/s, walk: the camera's walking speed
   template <class V>
   void visit(V& v) {
-    v.choice("style", style, {"static", "xyz", "rpy", "halfsphere", "handheld"}, "camera motion");
+    v.choice("style", style, {"static", "xyz", "rpy", "halfsphere", "handheld", "follow", "walk"},
+             "camera motion");
     v("amplitude", amplitude, 0.0, 5.0, "translation amplitude (m)");
     v("rotation", rotation, 0.0, 90.0, "rotation amplitude (deg)");
     v("period", period, 0.5, 1000.0, "main period (s)");
     v("radius", radius, 0.5, 10.0, "halfsphere radius (m)");
     v("height", height, 0.3, 2.5, "camera height (m)");
+    v("tilt", tilt, -45.0, 45.0, "camera pointed down by this (deg; not halfsphere)");
+    v("follow_distance", follow_distance, 0.5, 4.0, "follow: distance behind the followed walker's path (m)");
+    v("walk_span", walk_span, 0.0, 7.0, "walk: length of the camera's back-and-forth walk (m)");
+    v("walk_speed", walk_speed, 0.0, 3.0, "walk: camera speed (m/s)");
   }
 };
 
@@ -71,6 +84,10 @@ struct PeopleOptions {
   double distance_min = 1.0, distance_max = 4.0;  ///< m in front of the camera
   double path_slant = 0.8;                  ///< m, change of distance along a path
   bool sitting = false;                     ///< a seated person who only gestures
+  double path_span = 6.4;                   ///< m, walking paths' length, centred on the view
+  int group = 0;                            ///< walkers in step with the camera (style walk)
+  bool articulated = false;                 ///< knees and elbows bend (else straight limbs)
+  std::string clothes = "checker";          ///< checker | plain (solid cloth, seams, folds)
   template <class V>
   void visit(V& v) {
     v("walkers", walkers, 0, 20, "people walking across the view");
@@ -81,6 +98,10 @@ struct PeopleOptions {
     v("path_slant", path_slant, 0.0, 3.0,
       "how much a walker's distance from the camera changes along its path (m), 0 = parallel paths");
     v("sitting", sitting, "add a seated person who gestures");
+    v("path_span", path_span, 0.5, 6.4, "length of the walking paths, centred in front of the camera (m)");
+    v("group", group, 0, 10, "walkers moving in step with the camera (needs [Trajectory] style = walk)");
+    v("articulated", articulated, "knees and elbows bend while walking");
+    v.choice("clothes", clothes, {"checker", "plain"}, "clothing texture");
   }
 };
 
@@ -92,6 +113,9 @@ struct SensorOptions {
   double grazing_angle = 80.0;    ///< deg, no depth above this incidence angle
   bool edge_dropout = true;       ///< no depth next to depth discontinuities
   double image_noise = 2.0;       ///< grey-level sigma of RGB noise
+  double projector_baseline = 0;  ///< m, IR projector right of the camera: shadows (0 = off)
+  double exposure = 0;            ///< s, motion blur: colour integrated over this (0 = off)
+  int blur_samples = 4;           ///< renders averaged over the exposure
   template <class V>
   void visit(V& v) {
     v("depth_noise", depth_noise, "Kinect-like depth noise");
@@ -100,6 +124,20 @@ struct SensorOptions {
     v("grazing_angle", grazing_angle, 0.0, 90.0, "no depth above this incidence (deg)");
     v("edge_dropout", edge_dropout, "no depth at depth discontinuities");
     v("image_noise", image_noise, 0.0, 50.0, "RGB noise sigma (grey levels)");
+    v("projector_baseline", projector_baseline, 0.0, 0.5,
+      "m, projector offset: no depth where the projector's pattern is shadowed (0 = off)");
+    v("exposure", exposure, 0.0, 0.1, "s, motion blur exposure (0 = sharp)");
+    v("blur_samples", blur_samples, 2, 32, "renders averaged over the exposure");
+  }
+};
+
+/// [Room]
+struct RoomOptions {
+  std::string style = "tiles";  ///< tiles (textured walls, posters) | office (white walls)
+  template <class V>
+  void visit(V& v) {
+    v.choice("style", style, {"tiles", "office"},
+             "tiles: textured walls; office: bare white walls, texture on furniture below 1.1 m");
   }
 };
 
@@ -109,6 +147,7 @@ struct SimOptions {
   TrajectoryOptions trajectory;
   PeopleOptions people;
   SensorOptions sensor;
+  RoomOptions room;
   /// Noise-free settings for exact geometric tests.
   static SimOptions exact();
 };
@@ -132,12 +171,26 @@ class Simulator {
   int frameCount() const { return options_.simulator.frames; }
   double stamp(int index) const;
   Isometry cameraPose(int index) const;
+  /// Camera pose at any time (s since the first frame); cameraPose(i) = cameraPoseAt(i / fps).
+  Isometry cameraPoseAt(double time) const;
+  /// Where each walker stands at `time` (feet on the floor, world frame), walkers first,
+  /// then the camera's group, then the seated person: the ground truth of their motion.
+  std::vector<Eigen::Vector3d> peoplePositions(double time) const;
   SimFrame renderFrame(int index) const;
   /// Points on all static surfaces (room, furniture), about `spacing` apart, world frame.
   std::vector<Eigen::Vector3d> staticSurfaceSamples(double spacing) const;
 
  private:
   struct Scene;
+  struct View;
+  void addWalkers(detail::Rng& rng);
+  detail::PathState cameraWalk(double time) const;
+  Eigen::Vector3d handheldShake(double time, bool rotation) const;
+  View renderView(double time, const Isometry& T_world_camera) const;
+  int renderThreads() const;
+  cv::Mat addImageNoise(const cv::Mat& colour, int index) const;
+  cv::Mat projectorShadows(const cv::Mat& depth) const;
+  cv::Mat sensorDepth(const View& view, int index) const;
   SimOptions options_;
   std::unique_ptr<Scene> scene_;
 };

@@ -1,0 +1,239 @@
+// The hard scenarios of config/sim/ (crowd, person_tracking, synchronous, close_pass):
+// their ground truth and the properties their INI comments promise.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <vector>
+
+#include "sim_test_helpers.h"
+
+namespace {
+
+using gmc::sim::SimOptions;
+using gmc::sim::Simulator;
+
+double percentile(std::vector<double> v, double p) {
+  std::sort(v.begin(), v.end());
+  return v[static_cast<size_t>(p / 100.0 * static_cast<double>(v.size() - 1) + 0.5)];
+}
+
+double peopleShare(const cv::Mat& mask) { return cv::countNonZero(mask) / static_cast<double>(mask.total()); }
+
+/// Share of the image on people in every `step`-th frame.
+std::vector<double> coverage(const Simulator& sim, int step) {
+  std::vector<double> out;
+  for (int i = 0; i < sim.frameCount(); i += step) out.push_back(peopleShare(sim.renderFrame(i).mask));
+  return out;
+}
+
+TEST(Scenarios, NoiseFreeStaticPixelsReprojectExactly) {
+  for (const char* name : {"crowd", "person_tracking", "synchronous", "close_pass"}) {
+    SimOptions o = small(scenario(name));
+    o.sensor = SimOptions::exact().sensor;
+    // A pair of frames 14 apart where the static scene shows (close_pass starts behind a person).
+    const Simulator sim(o);
+    int i = 3;
+    while (peopleShare(sim.renderFrame(i).mask) > 0.4 || peopleShare(sim.renderFrame(i + 14).mask) > 0.4) i += 5;
+    expectStaticPixelsReprojectExactly(o, name, i, i + 14);
+  }
+}
+
+TEST(Scenarios, CrowdCoversAQuarterOfTheImageInTheMedianFrameAndHalfAtP90) {
+  for (int seed : {1, 2, 3}) {
+    SimOptions o = small(scenario("crowd"));
+    o.simulator.seed = seed;
+    const Simulator sim(o);
+    const auto share = coverage(sim, 3);
+    const double p50 = percentile(share, 50), p90 = percentile(share, 90);
+    std::printf("  crowd seed %d: people on %.3f of the pixels (p50), %.3f (p90)\n", seed, p50, p90);
+    EXPECT_GE(p50, 0.25) << "seed " << seed;
+    EXPECT_GE(p90, 0.50) << "seed " << seed;
+  }
+}
+
+TEST(Scenarios, SomeoneInTheCrowdPassesWithinOneMetre) {
+  const Simulator sim(small(scenario("crowd")));
+  double nearest = 1e9;
+  for (int i = 0; i < sim.frameCount(); i += 3) {
+    const auto f = sim.renderFrame(i);
+    double lo = 0;
+    cv::minMaxLoc(f.true_depth, &lo, nullptr, nullptr, nullptr, f.mask);
+    if (cv::countNonZero(f.mask) > 0) nearest = std::min(nearest, lo);
+  }
+  EXPECT_LT(nearest, 1.0);
+}
+
+TEST(Scenarios, PersonTrackingKeepsTheFollowedWalkerNearTheCentreAt1To2Metres) {
+  for (int seed : {1, 2}) {
+    SimOptions o = scenario("person_tracking");
+    o.simulator.seed = seed;
+    const Simulator sim(o);
+    double worst_u = 0, worst_v = 0, nearest = 1e9, farthest = 0;
+    for (int i = 0; i < sim.frameCount(); ++i) {
+      const double t = i / o.simulator.fps;
+      const Eigen::Vector3d chest = sim.peoplePositions(t).front() + Eigen::Vector3d(0, 0, 1.25);
+      const Eigen::Vector3d c = sim.cameraPose(i).inverse() * chest;
+      worst_u = std::max(worst_u, std::abs(o.camera.fx * c.x() / c.z() + o.camera.cx - o.camera.width / 2.0));
+      worst_v = std::max(worst_v, std::abs(o.camera.fy * c.y() / c.z() + o.camera.cy - o.camera.height / 2.0));
+      nearest = std::min(nearest, c.norm()), farthest = std::max(farthest, c.norm());
+    }
+    std::printf("  seed %d: followed walker's chest at most %.0f px (u), %.0f px (v) from the centre, %.2f-%.2f m\n",
+                seed, worst_u, worst_v, nearest, farthest);
+    EXPECT_LT(worst_u, 0.15 * o.camera.width);
+    EXPECT_LT(worst_v, 0.25 * o.camera.height);
+    EXPECT_GE(nearest, 1.0);
+    EXPECT_LE(farthest, 2.0);
+  }
+}
+
+TEST(Scenarios, SynchronousGroupMovesWithTheCamera) {
+  const SimOptions o = scenario("synchronous");
+  const Simulator sim(o);
+  const size_t first_in_group = static_cast<size_t>(o.people.walkers);
+  const double dt = 1.0 / o.simulator.fps;
+  double worst = 0, camera_speed = 0;
+  for (int i = 0; i + 1 < sim.frameCount(); ++i) {
+    const Eigen::Vector3d camera_step = sim.cameraPose(i + 1).translation() - sim.cameraPose(i).translation();
+    const auto a = sim.peoplePositions(i * dt), b = sim.peoplePositions((i + 1) * dt);
+    ASSERT_EQ(a.size(), first_in_group + static_cast<size_t>(o.people.group));
+    for (size_t k = first_in_group; k < a.size(); ++k)
+      worst = std::max(worst, ((b[k] - a[k]) - camera_step).norm() / dt);
+    camera_speed = std::max(camera_speed, camera_step.norm() / dt);
+  }
+  std::printf("  camera up to %.2f m/s; group velocity differs from it by at most %.2g m/s\n", camera_speed, worst);
+  EXPECT_GT(camera_speed, 0.5);
+  EXPECT_LT(worst, 1e-6);
+}
+
+TEST(Scenarios, ClosePassFillsSixtyPercentOfTheViewForTenFrames) {
+  for (int seed : {1, 2}) {
+    SimOptions o = small(scenario("close_pass"));
+    o.simulator.seed = seed;
+    const auto share = coverage(Simulator(o), 1);
+    const auto filled = std::count_if(share.begin(), share.end(), [](double s) { return s >= 0.6; });
+    std::printf("  close_pass seed %d: %ld frames with people on >= 60 %% of the view\n", seed, static_cast<long>(filled));
+    EXPECT_GE(filled, 10) << "seed " << seed;
+  }
+}
+
+TEST(Scenarios, SameSeedSameFramesWhateverTheThreads) {
+  SimOptions o = small(scenario("crowd"));
+  o.simulator.threads = 1;
+  const Simulator one(o);
+  o.simulator.threads = 3;
+  const Simulator three(o);
+  o.simulator.seed = 2;
+  const Simulator other(o);
+  for (int i : {5, 77}) {
+    const auto a = one.renderFrame(i), b = three.renderFrame(i), c = other.renderFrame(i);
+    EXPECT_EQ(cv::norm(a.frame.rgb, b.frame.rgb, cv::NORM_INF), 0) << i;
+    EXPECT_EQ(cv::norm(a.frame.depth, b.frame.depth, cv::NORM_INF), 0) << i;
+    EXPECT_EQ(cv::norm(a.mask, b.mask, cv::NORM_INF), 0) << i;
+    EXPECT_GT(cv::norm(a.frame.rgb, c.frame.rgb, cv::NORM_L1), 0) << i;
+  }
+}
+
+TEST(Scenarios, ProjectorShadowsLeaveDepthHolesLeftOfPeopleOnly) {
+  SimOptions o = SimOptions::exact();
+  o.trajectory.style = "static";
+  o.people = scenario("crowd").people;
+  o.sensor.projector_baseline = 0.075;
+  const Simulator sim(o);
+  const double fb = o.camera.fx * o.sensor.projector_baseline;
+  int left_holes = 0, right_holes = 0, silhouettes = 0;
+  for (int i : {10, 60, 110}) {
+    const auto f = sim.renderFrame(i);
+    for (int v = 0; v < f.mask.rows; ++v)
+      for (int u = 3; u + 3 < f.mask.cols; ++u) {
+        const auto m = [&](int x) { return f.mask.at<std::uint8_t>(v, x) != 0; };
+        const auto z = [&](int x) { return f.true_depth.at<double>(v, x); };
+        // A person's left edge in front of a surface far enough behind for a shadow
+        // band of 3 px or more: the pixel 2 px left of the edge must have no depth.
+        if (!m(u - 1) && !m(u - 3) && m(u) && fb * (1 / z(u) - 1 / z(u - 3)) >= 3) {
+          ++silhouettes;
+          left_holes += f.frame.depth.at<std::uint16_t>(v, u - 2) == 0;
+        }
+        if (m(u) && !m(u + 1) && z(u + 3) > z(u) + 0.5) right_holes += f.frame.depth.at<std::uint16_t>(v, u + 2) == 0;
+      }
+  }
+  std::printf("  %d left silhouettes: background 2 px left has no depth at %d; 2 px right of right edges: %d\n",
+              silhouettes, left_holes, right_holes);
+  ASSERT_GT(silhouettes, 50);
+  EXPECT_EQ(left_holes, silhouettes);
+  // Right of a person only where another person's shadow falls (crowds overlap).
+  EXPECT_LT(right_holes * 10, left_holes);
+}
+
+TEST(Scenarios, MotionBlurChangesColoursOnlyNearMovingPeople) {
+  SimOptions o = small(SimOptions::exact());
+  o.trajectory.style = "static";
+  o.people = scenario("crowd").people;
+  SimOptions blurred = o;
+  blurred.sensor.exposure = 0.03;
+  const Simulator sharp_sim(o), blur_sim(blurred);
+  int changed = 0, changed_far = 0;
+  for (int i : {20, 90}) {
+    const auto sharp = sharp_sim.renderFrame(i), blur = blur_sim.renderFrame(i);
+    EXPECT_EQ(cv::norm(sharp.frame.depth, blur.frame.depth, cv::NORM_INF), 0);  // depth of the frame's instant
+    cv::Mat near_people;
+    cv::dilate(sharp.mask, near_people, cv::Mat(), cv::Point(-1, -1), 6);
+    cv::Mat diff;
+    cv::absdiff(sharp.frame.rgb, blur.frame.rgb, diff);
+    cv::cvtColor(diff, diff, cv::COLOR_BGR2GRAY);
+    changed += cv::countNonZero(diff > 1);
+    changed_far += cv::countNonZero((diff > 1) & (near_people == 0));
+  }
+  std::printf("  %d pixels changed by blur, %d of them away from people\n", changed, changed_far);
+  EXPECT_GT(changed, 100);
+  EXPECT_EQ(changed_far, 0);
+}
+
+TEST(Scenarios, OfficeWallsAreBareAboveTheFurniture) {
+  SimOptions o = SimOptions::exact();
+  o.trajectory.style = "static";
+  o.people.walkers = 0;
+  o.room.style = "office";
+  cv::Mat gray;
+  // GFTT over the whole frame (quality relative to the frame's strongest corner), counted
+  // in the top third: above the furniture there is only wall.
+  const auto corners = [&](const SimOptions& opts) {
+    cv::cvtColor(Simulator(opts).renderFrame(0).frame.rgb, gray, cv::COLOR_BGR2GRAY);
+    std::vector<cv::Point2f> c;
+    cv::goodFeaturesToTrack(gray, c, 5000, 0.01, 5);
+    return std::count_if(c.begin(), c.end(), [&](const cv::Point2f& p) { return p.y < gray.rows / 3; });
+  };
+  const auto office = corners(o);
+  o.room.style = "tiles";
+  const auto tiles = corners(o);
+  std::printf("  GFTT corners in the top third: office %ld, tiled room %ld\n", static_cast<long>(office),
+              static_cast<long>(tiles));
+  EXPECT_LT(office * 5, tiles);
+}
+
+TEST(Scenarios, InconsistentNewKeysAreNamedErrors) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"[People]\ngroup = 2\n", "group"},
+      {"[Trajectory]\nstyle = follow\n[People]\nwalkers = 0\n", "follow"},
+      {"[Room]\nstyle = castle\n", "style"},
+      {"[Room]\nwindows = 3\n", "windows"},
+      {"[People]\nclothes = fur\n", "clothes"},
+      {"[Sensor]\nblur_samples = 1\n", "blur_samples"},
+  };
+  for (const auto& [text, key] : cases) {
+    const mrpt::config::CConfigFileMemory ini(text);
+    try {
+      gmc::sim::loadSimOptions(ini, "test.ini");
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const gmc::cfg::ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("test.ini"), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
