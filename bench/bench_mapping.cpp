@@ -173,7 +173,10 @@ const std::vector<PosedFrame>& bonnFrames() {
       const auto pose = datasets::interpolatePose(gt, f.stamp);
       if (!pose) continue;
       const Isometry T = bonnCameraPose(*pose);
-      out.push_back({f, T, staticCloud(f, bandMask(f.depth.size()), T, {})});
+      datasets::RgbdFrame own = f;
+      own.depth = f.depth.clone();  // the source may reuse its buffers
+      own.rgb.release();            // not used by the map
+      out.push_back({own, T, staticCloud(own, bandMask(own.depth.size()), T, {})});
     }
     return out;
   }();

@@ -8,6 +8,7 @@ packages=(
   libmrpt-config-dev libmrpt-obs-dev libmrpt-maps-dev libmrpt-vision-dev
   libmrpt-tfest-dev libmrpt-opengl-dev
   libgtest-dev libbenchmark-dev
+  nlohmann-json3-dev   # JSON outputs (header-only)
   mrpt-common   # /usr/share/mrpt/datasets/tests_rgbd.rawlog, read by the tests
   mrpt-apps     # rawlog-edit, used to check that MRPT reads our rawlogs
 )

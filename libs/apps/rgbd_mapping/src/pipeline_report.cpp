@@ -150,6 +150,11 @@ std::string PipelineReport::toText() const {
   line("total", total_ms);
   os << "  " << (wall_seconds > 0 ? frames / wall_seconds : 0.0) << " frames/s overall, peak resident memory "
      << std::fixed << std::setprecision(0) << peak_rss_mb << " MB\n" << std::defaultfloat << std::setprecision(6);
+  if (!lag_s.empty()) {
+    const auto lag = Percentiles::of(lag_s);
+    os << "  realtime lag " << lag.median << " s median, " << lag.p95 << " s p95, "
+       << *std::max_element(lag_s.begin(), lag_s.end()) << " s max\n";
+  }
   if (has_map) os << "  map: " << mapping::toText(map) << "\n";
   if (has_map_quality)
     os << "  map vs ground truth: " << map_quality.ghost_voxels << " ghost voxels (of "
