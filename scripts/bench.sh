@@ -42,8 +42,9 @@ csv_list() { echo "$1" | tr ',' ' '; }
 
 # --- small numeric helpers
 json() { grep -o "\"$2\": [0-9.e+-]*" "$1" | head -1 | awk '{print $2}'; }
-stage_median() { grep -o "\"$2\": {\"median\": [0-9.e+-]*" "$1" | awk '{print $NF}'; }
-stage_p95() { grep -o "\"$2\": {\"median\": [0-9.e+-]*, \"p95\": [0-9.e+-]*" "$1" | awk '{print $NF}'; }
+stage_ms() { python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["ms"][sys.argv[2]][sys.argv[3]])' "$@"; }
+stage_median() { stage_ms "$1" "$2" median; }
+stage_p95() { stage_ms "$1" "$2" p95; }
 # spread "v1 v2 ...": "median [min-max]" with the given printf format
 spread() {
   local fmt="$1"; shift
