@@ -57,10 +57,14 @@ const std::vector<GtFrame>& sequence() {
   return frames;
 }
 
+/// False (the benchmark skipped, saying why) when its frames are missing.
+bool haveFrames(benchmark::State& state, bool have, const char* why) {
+  if (!have) state.SkipWithError(why);
+  return have;
+}
+
 bool haveSequence(benchmark::State& state) {
-  if (!sequence().empty()) return true;
-  state.SkipWithError("set GMC_SIM_SEQ to a gmc-sim folder (e.g. walkers_xyz)");
-  return false;
+  return haveFrames(state, !sequence().empty(), "set GMC_SIM_SEQ to a gmc-sim folder (e.g. walkers_xyz)");
 }
 
 /// ms per inserted frame with the exact masks; args: pixel_step, discretize.
@@ -184,9 +188,7 @@ const std::vector<PosedFrame>& bonnFrames() {
 }
 
 bool haveBonn(benchmark::State& state) {
-  if (!bonnFrames().empty()) return true;
-  state.SkipWithError("no bonn_crowd_240_389 under GMC_DATA_DIR (default ../shared/data)");
-  return false;
+  return haveFrames(state, !bonnFrames().empty(), "no bonn_crowd_240_389 under GMC_DATA_DIR (default ../shared/data)");
 }
 
 void reportRate(benchmark::State& state, const octomap::OcTree& tree) {

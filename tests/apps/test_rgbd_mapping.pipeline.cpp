@@ -41,6 +41,13 @@ class Gate {
   bool open_ = false;
 };
 
+std::vector<int> closeAndDrain(BoundedQueue<int>& q) {
+  q.close();
+  std::vector<int> left;
+  while (auto v = q.pop()) left.push_back(*v);
+  return left;
+}
+
 TEST(BoundedQueue, BlockingPushDeliversEveryItemInOrderToASlowConsumer) {
   BoundedQueue<int> q(3);
   std::vector<int> got;
@@ -65,10 +72,7 @@ TEST(BoundedQueue, PushOrEvictNeverWaitsAndKeepsTheNewest) {
   size_t evicted = 0;
   for (int i = 0; i < 10; ++i) evicted += q.pushOrEvict(i, [](int) { return false; });
   EXPECT_EQ(evicted, 7u);
-  q.close();
-  std::vector<int> left;
-  while (auto v = q.pop()) left.push_back(*v);
-  EXPECT_EQ(left, (std::vector<int>{7, 8, 9}));
+  EXPECT_EQ(closeAndDrain(q), (std::vector<int>{7, 8, 9}));
 }
 
 TEST(BoundedQueue, EvictionTakesThePreferredOldestFirstElseTheOldest) {
@@ -77,10 +81,7 @@ TEST(BoundedQueue, EvictionTakesThePreferredOldestFirstElseTheOldest) {
   for (int v : {0, 1, 2}) q.pushOrEvict(v, odd);
   EXPECT_EQ(q.pushOrEvict(4, odd), 1u);  // evicts 1: {0, 2, 4}
   EXPECT_EQ(q.pushOrEvict(6, odd), 1u);  // no odd left: evicts the oldest, 0
-  q.close();
-  std::vector<int> left;
-  while (auto v = q.pop()) left.push_back(*v);
-  EXPECT_EQ(left, (std::vector<int>{2, 4, 6}));
+  EXPECT_EQ(closeAndDrain(q), (std::vector<int>{2, 4, 6}));
 }
 
 TEST(BoundedQueue, CloseWakesAWaitingPushAndAWaitingPop) {
