@@ -26,8 +26,8 @@ run() {  # run NAME FRAMES [--set ...]
     >"$out/$name.log" 2>&1
 }
 stage() {  # stage SUMMARY NAME -> "median (p95)"
-  grep -o "\"$2\": {\"median\": [0-9.e+-]*, \"p95\": [0-9.e+-]*" "$1" |
-    awk '{ gsub(/,/, ""); printf("%.1f (%.1f)", $3, $5) }'
+  python3 -c 'import json, sys; s = json.load(open(sys.argv[1]))["ms"][sys.argv[2]]
+print("%.1f (%.1f)" % (s["median"], s["p95"]), end="")' "$1" "$2"
 }
 value() { grep -o "\"$2\": [0-9.e+-]*" "$1" | head -1 | awk '{ print $2 }'; }
 row() {  # row LABEL SUMMARY

@@ -8,7 +8,6 @@ packages=(
   libmrpt-config-dev libmrpt-obs-dev libmrpt-opengl-dev
   libtclap-dev nlohmann-json3-dev   # argument parsing, JSON (header-only)
   libgtest-dev libbenchmark-dev
-  libtclap-dev  # command lines of the apps (header-only)
   mrpt-common   # /usr/share/mrpt/datasets/tests_rgbd.rawlog, read by the tests
   mrpt-apps     # rawlog-edit, used to check that MRPT reads our rawlogs
 )

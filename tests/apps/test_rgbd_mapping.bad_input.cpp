@@ -20,6 +20,7 @@
 #include <regex>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 #include "child_process.h"
 #include "gmc/apps/rgbd_mapping_app.h"
@@ -471,18 +472,19 @@ TEST(RgbdMappingBadInput, PersonFillingTheWholeViewIsSurvivedAndTrackingRecovers
   EXPECT_GE(r.lines("static inliers (position standard deviation"), 1u) << r.err;
 }
 
-// Ctrl-C and SIGTERM on the real executable (a child process): it stops after the current
-// frame, exits 0 and writes the trajectory, map and summary of the frames processed so far,
-// complete (no temporary file left) and loadable. One overlay per frame shows progress.
-TEST(RgbdMappingBadInput, SigtermAndSigintStopAfterTheCurrentFrameWithCompleteOutputs) {
+// Ctrl-C and SIGTERM on the real executable (a child process): it stops reading, tracks the
+// frames already read, exits 0 and writes the trajectory, map and summary of the frames
+// processed so far, complete (no temporary file left) and loadable. One overlay per frame
+// shows progress. Realtime (Ctrl-C): the map queue is drained or its skips counted.
+TEST(RgbdMappingBadInput, SigtermAndSigintStopReadingAndWriteCompleteOutputs) {
 #ifndef GMC_RGBD_MAPPING_EXE
   GTEST_SKIP() << "gmc-rgbd-mapping is not part of this build";
 #else
   const auto root = gmc::testdata::scratchDir("bad_signal");
   const auto dir = writeTumFolder(root + "/seq", renderFrames(smallScene(20)));
-  for (const int sig : {SIGTERM, SIGINT}) {
-    SCOPED_TRACE(sig == SIGTERM ? "SIGTERM" : "SIGINT");
-    const std::string out = root + "/out_" + std::to_string(sig);
+  for (const auto& [sig, realtime] : {std::pair{SIGTERM, false}, std::pair{SIGINT, false}, std::pair{SIGINT, true}}) {
+    SCOPED_TRACE(std::string(sig == SIGTERM ? "SIGTERM" : "SIGINT") + (realtime ? " realtime" : ""));
+    const std::string out = root + "/out_" + std::to_string(sig) + (realtime ? "_realtime" : "");
     fs::create_directories(out);
     auto overlays = [&] {
       size_t n = 0;
@@ -495,8 +497,9 @@ TEST(RgbdMappingBadInput, SigtermAndSigintStopAfterTheCurrentFrameWithCompleteOu
         GMC_RGBD_MAPPING_EXE,
         {GMC_SOURCE_DIR "/config/default.ini", dir, "--out", out, "--set", "Dataset.camera=custom", "--set",
          "Dataset.fx=267.7", "--set", "Dataset.fy=269.6", "--set", "Dataset.cx=160", "--set", "Dataset.cy=123.8",
-         "--set", "Dataset.repeat=100000", "--set", "Output.overlay_every=1"},
-        root + "/log_" + std::to_string(sig) + ".txt");
+         "--set", "Dataset.repeat=100000", "--set", "Output.overlay_every=1", "--set",
+         std::string("Playback.mode=") + (realtime ? "realtime" : "as_fast_as_possible")},
+        out + ".log");
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(5);
     while (overlays() < 5 && !child.wait() && std::chrono::steady_clock::now() < deadline)
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -527,7 +530,10 @@ TEST(RgbdMappingBadInput, SigtermAndSigintStopAfterTheCurrentFrameWithCompleteOu
     octomap::OcTree tree(0.1);
     ASSERT_TRUE(tree.readBinary(out + "/map.bt")) << "map.bt does not load";
     EXPECT_GT(tree.size(), 1000u);
-    EXPECT_EQ(parsed.count("map_inserts"), parsed.count("tracked"));
+    EXPECT_EQ(parsed.count("map_inserts") + parsed.count("map_skipped"), parsed.count("tracked"));
+    if (!realtime) {
+      EXPECT_EQ(parsed.count("map_skipped"), 0);
+    }
     for (const auto& e : fs::directory_iterator(out))
       EXPECT_NE(e.path().filename().string()[0], '.') << "temporary file left: " << e.path();
   }

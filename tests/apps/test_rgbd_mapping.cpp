@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <octomap/OcTree.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -107,6 +109,70 @@ TEST(RgbdMappingApp, ConfigurationErrorsFailWithoutOutputs) {
   EXPECT_EQ(runMapping({root + "/missing.ini", seq, "--out", root + "/o6"}), 1);
   EXPECT_EQ(runMapping({ini("f.ini", ""), seq}), 2);  // no --out
   for (int i = 1; i <= 6; ++i) EXPECT_FALSE(fs::exists(root + "/o" + std::to_string(i) + "/trajectory_tum.txt"));
+}
+
+std::string readBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Unpaced, the map runs on its own thread but takes every tracked frame in order: two
+// runs give the same bytes.
+TEST(RgbdMappingApp, UnpacedRunsAreByteIdentical) {
+  const auto root = gmc::testdata::scratchDir("mapping_deterministic");
+  const auto seq = gmc::testdata::makeWallSequence(root + "/seq", 20);
+  for (const char* out : {"/a", "/b"})
+    ASSERT_EQ(runMapping({GMC_SOURCE_DIR "/config/default.ini", seq, "--out", root + out, "--set",
+                          "Playback.map_queue=1", "--set", "Playback.frame_queue=1"}),
+              0);
+  EXPECT_EQ(readBytes(root + "/a/trajectory_tum.txt"), readBytes(root + "/b/trajectory_tum.txt"));
+  const std::string map = readBytes(root + "/a/map.bt");
+  EXPECT_GT(map.size(), 1000u);
+  EXPECT_EQ(map, readBytes(root + "/b/map.bt"));
+  const auto summary = nlohmann::json::parse(readBytes(root + "/a/summary.json"));
+  EXPECT_EQ(summary.at("map_inserts"), summary.at("tracked"));
+  EXPECT_EQ(summary.at("map_skipped"), 0);
+  EXPECT_EQ(summary.at("dropped"), 0);
+  EXPECT_EQ(summary.at("stages").at("map").at("items"), summary.at("tracked"));
+  EXPECT_EQ(summary.at("queues").at("map").at("capacity"), 1);
+}
+
+// Realtime with a map far slower than the camera (every pixel, 2 cm voxels): the
+// odometry keeps the camera's pace and the map skips frames, each one counted.
+TEST(RgbdMappingApp, RealtimeSlowMapSkipsCountedFramesAndOdometryKeepsUp) {
+  const auto root = gmc::testdata::scratchDir("mapping_realtime");
+  const auto seq = gmc::testdata::makeWallSequence(root + "/seq", 30);
+  ASSERT_EQ(runMapping({GMC_SOURCE_DIR "/config/default.ini", seq, "--out", root + "/out", "--set",
+                        "Playback.mode=realtime", "--set", "Playback.rate=0.5", "--set", "Playback.map_queue=2",
+                        "--set", "Mapping.pixel_step=1", "--set", "Mapping.resolution=0.02"}),
+            0);
+  const auto summary = nlohmann::json::parse(readBytes(root + "/out/summary.json"));
+  const long tracked = summary.at("tracked"), inserted = summary.at("map_inserts"),
+             skipped = summary.at("map_skipped");
+  EXPECT_EQ(summary.at("frames").get<long>() + summary.at("dropped").get<long>(), 30);
+  EXPECT_EQ(inserted + skipped, tracked);
+  EXPECT_GT(skipped, 0) << "the map kept up: the test does not load it enough";
+  EXPECT_GT(inserted, 0);
+  EXPECT_EQ(summary.at("map").at("frames_inserted"), inserted);
+  EXPECT_TRUE(summary.contains("realtime_lag_s"));
+  EXPECT_LE(summary.at("queues").at("map").at("high_water").get<long>(), 2);
+}
+
+void testHandler(int) {}
+
+// A run that fails mid-way (no ground-truth pose for the first frame) puts the caller's
+// signal handlers back (they were left pointing at the app's before).
+TEST(RgbdMappingApp, SignalHandlersAreRestoredWhenRunThrows) {
+  const auto root = gmc::testdata::scratchDir("mapping_signals");
+  const auto seq = gmc::testdata::makeWallSequence(root + "/seq", 3);
+  std::ofstream(root + "/late_gt.txt") << "5000.0 0 0 0 0 0 0 1\n5000.1 0 0 0 0 0 0 1\n";
+  const auto old_int = std::signal(SIGINT, testHandler);
+  const auto old_term = std::signal(SIGTERM, testHandler);
+  EXPECT_EQ(runMapping({GMC_SOURCE_DIR "/config/default.ini", seq, "--out", root + "/out", "--set",
+                        "Dataset.groundtruth=" + root + "/late_gt.txt", "--set", "Dataset.anchor_to_groundtruth=true"}),
+            1);
+  EXPECT_EQ(std::signal(SIGINT, old_int), &testHandler);
+  EXPECT_EQ(std::signal(SIGTERM, old_term), &testHandler);
 }
 
 TEST(RawlogFilterApp, WritesLabelledObservationsMrptReads) {

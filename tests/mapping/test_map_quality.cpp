@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "gmc/mapping/map_quality.h"
 #include "gmc/mapping/static_map.h"
@@ -88,10 +89,12 @@ TEST(MapQuality, RejectsMismatchedInputs) {
 TEST(MapQuality, JsonNamesEveryField) {
   MapQuality q;
   q.ghost_voxels = 3, q.dynamic_only_voxels = 7, q.static_voxels_seen = 10, q.static_voxels_occupied = 4;
-  const std::string json = toJson(q);
-  for (const char* key : {"\"ghost_voxels\": 3", "\"dynamic_only_voxels\": 7", "\"static_voxels_seen\": 10",
-                          "\"static_voxels_occupied\": 4", "\"static_coverage\": 0.4"})
-    EXPECT_NE(json.find(key), std::string::npos) << key << " in " << json;
+  const auto json = nlohmann::json::parse(toJson(q));
+  EXPECT_EQ(json.at("ghost_voxels"), 3);
+  EXPECT_EQ(json.at("dynamic_only_voxels"), 7);
+  EXPECT_EQ(json.at("static_voxels_seen"), 10);
+  EXPECT_EQ(json.at("static_voxels_occupied"), 4);
+  EXPECT_DOUBLE_EQ(json.at("static_coverage").get<double>(), 0.4);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "gmc/mapping/map_quality.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -58,12 +60,12 @@ MapQuality evaluate(const octomap::OcTree& map, const GroundTruthVoxels& truth) 
 }
 
 std::string toJson(const MapQuality& q) {
-  std::ostringstream os;
-  os << "{\"ghost_voxels\": " << q.ghost_voxels << ", \"dynamic_only_voxels\": " << q.dynamic_only_voxels
-     << ", \"static_voxels_seen\": " << q.static_voxels_seen
-     << ", \"static_voxels_occupied\": " << q.static_voxels_occupied
-     << ", \"static_coverage\": " << q.static_coverage() << "}";
-  return os.str();
+  const nlohmann::ordered_json j = {{"ghost_voxels", q.ghost_voxels},
+                                    {"dynamic_only_voxels", q.dynamic_only_voxels},
+                                    {"static_voxels_seen", q.static_voxels_seen},
+                                    {"static_voxels_occupied", q.static_voxels_occupied},
+                                    {"static_coverage", q.static_coverage()}};
+  return j.dump();
 }
 
 }  // namespace gmc::mapping

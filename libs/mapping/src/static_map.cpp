@@ -1,5 +1,6 @@
 #include "gmc/mapping/static_map.h"
 
+#include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <sstream>
@@ -49,13 +50,29 @@ bool StaticMapBuilder::insertFrame(const datasets::RgbdFrame& frame, const cv::M
       mask = &dilated_mask_;
     }
   }
-
-  const auto& cam = frame.camera;
-  const Eigen::Vector3d origin = T_world_camera.translation();
-  const octomap::point3d o = toOcto(origin);
-  cloud_.clear();
+  sampleEndpoints(frame, mask, T_world_camera);
+  const octomap::point3d o = toOcto(T_world_camera.translation());
+  // The update insertPointCloud() would make, plus the free space in front of people;
+  // a voxel holding a static endpoint of this frame is never cleared by it.
   free_keys_.clear();
   occupied_keys_.clear();
+  if (options_.discretize)
+    tree_->computeDiscreteUpdate(cloud_, o, free_keys_, occupied_keys_, options_.max_range);
+  else
+    tree_->computeUpdate(cloud_, o, free_keys_, occupied_keys_, options_.max_range);
+  addDynamicRays(o);
+  for (const auto& key : free_keys_) tree_->updateNode(key, false);
+  for (const auto& key : occupied_keys_) tree_->updateNode(key, true);
+  ++frames_;
+  return true;
+}
+
+/// cloud_: static endpoints; dynamic_ends_: where the rays to dynamic pixels stop (the
+/// ray proves the space up to just before the person empty).
+void StaticMapBuilder::sampleEndpoints(const datasets::RgbdFrame& frame, const cv::Mat* mask,
+                                       const Isometry& T_world_camera) {
+  const Eigen::Vector3d origin = T_world_camera.translation();
+  cloud_.clear();
   dynamic_ends_.clear();
   const int step = options_.pixel_step;
   for (int v = step / 2; v < frame.depth.rows; v += step) {
@@ -64,33 +81,37 @@ bool StaticMapBuilder::insertFrame(const datasets::RgbdFrame& frame, const cv::M
     for (int u = step / 2; u < frame.depth.cols; u += step) {
       const double z = drow[u] * frame.depth_units;
       if (drow[u] == 0 || z < options_.min_range) continue;
-      const Eigen::Vector3d p = T_world_camera * cam.unproject(u, v, z);
-      if (mrow && mrow[u]) {
-        if (options_.clear_dynamic_rays) dynamic_ends_.push_back(p);
+      const Eigen::Vector3d p = T_world_camera * frame.camera.unproject(u, v, z);
+      if (!mrow || !mrow[u]) {
+        cloud_.push_back(toOcto(p));
         continue;
       }
-      cloud_.push_back(toOcto(p));
+      if (!options_.clear_dynamic_rays) continue;
+      const double len = (p - origin).norm();
+      const double keep = std::min(len, options_.max_range) - options_.dynamic_ray_margin;
+      if (keep > 0) dynamic_ends_.push_back(origin + (p - origin) * (keep / len));
     }
   }
-  // The update insertPointCloud() would make, plus the free space in front of people;
-  // a voxel holding a static endpoint of this frame is never cleared by it.
-  if (options_.discretize)
-    tree_->computeDiscreteUpdate(cloud_, o, free_keys_, occupied_keys_, options_.max_range);
-  else
-    tree_->computeUpdate(cloud_, o, free_keys_, occupied_keys_, options_.max_range);
-  for (const Eigen::Vector3d& p : dynamic_ends_) {
-    // The ray proves the space up to just before the person empty.
-    const double len = (p - origin).norm();
-    const double keep = std::min(len, options_.max_range) - options_.dynamic_ray_margin;
-    if (keep <= 0) continue;
-    if (!tree_->computeRayKeys(o, toOcto(origin + (p - origin) * (keep / len)), ray_)) continue;
+}
+
+/// Free keys along the rays to dynamic_ends_, except this frame's occupied voxels. With
+/// `discretize`, one ray per end voxel (to its centre), as OctoMap's discretized update
+/// does for the static endpoints: neighbouring pixels on a person share most voxels.
+void StaticMapBuilder::addDynamicRays(const octomap::point3d& origin) {
+  auto addRay = [&](const octomap::point3d& end) {
+    if (!tree_->computeRayKeys(origin, end, ray_)) return;
     for (const auto& key : ray_)
       if (!occupied_keys_.count(key)) free_keys_.insert(key);
+  };
+  if (!options_.discretize) {
+    for (const Eigen::Vector3d& p : dynamic_ends_) addRay(toOcto(p));
+    return;
   }
-  for (const auto& key : free_keys_) tree_->updateNode(key, false);
-  for (const auto& key : occupied_keys_) tree_->updateNode(key, true);
-  ++frames_;
-  return true;
+  dynamic_keys_.clear();
+  octomap::OcTreeKey key;
+  for (const Eigen::Vector3d& p : dynamic_ends_)
+    if (tree_->coordToKeyChecked(toOcto(p), key)) dynamic_keys_.insert(key);
+  for (const auto& k : dynamic_keys_) addRay(tree_->keyToCoord(k));
 }
 
 MapStats StaticMapBuilder::stats() const {
@@ -122,15 +143,15 @@ void StaticMapBuilder::writeBinary(const std::string& path) const {
 }
 
 std::string toJson(const MapStats& s) {
-  std::ostringstream os;
-  os.precision(6);
-  os << "{\"frames_inserted\": " << s.frames_inserted << ", \"leaf_nodes\": " << s.leaf_nodes
-     << ", \"occupied_leaves\": " << s.occupied_leaves << ", \"free_leaves\": " << s.free_leaves
-     << ", \"memory_bytes\": " << s.memory_bytes << ", \"occupied_volume_m3\": "
-     << s.occupied_volume_m3 << ", \"bbox_min\": [" << s.min.x() << ", " << s.min.y() << ", "
-     << s.min.z() << "], \"bbox_max\": [" << s.max.x() << ", " << s.max.y() << ", " << s.max.z()
-     << "]}";
-  return os.str();
+  const nlohmann::ordered_json j = {{"frames_inserted", s.frames_inserted},
+                                    {"leaf_nodes", s.leaf_nodes},
+                                    {"occupied_leaves", s.occupied_leaves},
+                                    {"free_leaves", s.free_leaves},
+                                    {"memory_bytes", s.memory_bytes},
+                                    {"occupied_volume_m3", s.occupied_volume_m3},
+                                    {"bbox_min", {s.min.x(), s.min.y(), s.min.z()}},
+                                    {"bbox_max", {s.max.x(), s.max.y(), s.max.z()}}};
+  return j.dump();
 }
 
 std::string toText(const MapStats& s) {

@@ -10,6 +10,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 namespace gmc::apps {
 namespace {
 /// A "VmRSS:" style line of /proc/self/status in MB.
@@ -50,7 +52,7 @@ Percentiles Percentiles::of(std::vector<double> v) {
   return p;
 }
 
-void PipelineReport::addFrame(const vo::FrameTracking& t, double map_insert_ms, double pipeline_ms) {
+void PipelineReport::addFrame(const vo::FrameTracking& t, double pipeline_ms) {
   ++frames;
   if (t.tracked()) ++tracked;
   if (t.state == vo::TrackingState::Lost) ++lost;
@@ -65,55 +67,66 @@ void PipelineReport::addFrame(const vo::FrameTracking& t, double map_insert_ms, 
   refine_ms.push_back(t.times.refine);
   odometry_ms.push_back(t.times.total);
   mask_ms.push_back(t.times.mask);
-  if (map_insert_ms > 0) {
-    map_ms.push_back(map_insert_ms);
-    ++map_inserts;
-  }
   total_ms.push_back(pipeline_ms);
 }
 
+void PipelineReport::setMapTimes(std::vector<double> insert_ms) {
+  map_inserts = insert_ms.size();
+  map_ms = std::move(insert_ms);
+}
+
 namespace {
-void stage(std::ostringstream& os, const char* name, const std::vector<double>& v, bool last = false) {
+using Json = nlohmann::ordered_json;
+
+Json percentiles(const std::vector<double>& v) {
   const auto p = Percentiles::of(v);
-  os << "    \"" << name << "\": {\"median\": " << p.median << ", \"p95\": " << p.p95 << "}"
-     << (last ? "\n" : ",\n");
+  return {{"median", p.median}, {"p95", p.p95}};
+}
+
+Json score(const datasets::BinaryScore& s) {
+  return {{"precision", s.precision()}, {"recall", s.recall()}, {"tp", s.tp}, {"fp", s.fp}, {"fn", s.fn}};
+}
+
+/// Per stage: items, busy seconds, items per busy second (what the stage can sustain)
+/// and per wall second (what it did).
+Json stagesJson(const std::vector<PipelineReport::Stage>& stages, double wall_seconds) {
+  Json out = Json::object();
+  for (const auto& s : stages)
+    out[s.name] = {{"items", s.items},
+                   {"busy_s", s.busy_s},
+                   {"per_busy_s", s.busy_s > 0 ? s.items / s.busy_s : 0.0},
+                   {"per_wall_s", wall_seconds > 0 ? s.items / wall_seconds : 0.0}};
+  return out;
 }
 }  // namespace
 
 std::string PipelineReport::toJson() const {
-  std::ostringstream os;
-  os << std::setprecision(6);
-  os << "{\n";
-  os << "  \"frames\": " << frames << ",\n  \"tracked\": " << tracked << ",\n  \"lost\": " << lost
-     << ",\n  \"lost_pose_undetermined\": " << lost_pose_undetermined << ",\n  \"reanchored\": " << reanchored
-     << ",\n  \"dropped\": " << dropped
-     << ",\n  \"skipped\": " << skipped << ",\n  \"keyframes\": " << keyframes
-     << ",\n  \"map_inserts\": " << map_inserts << ",\n  \"interrupted\": "
-     << (interrupted ? "true" : "false") << ",\n  \"wall_seconds\": " << wall_seconds
-     << ",\n  \"peak_rss_mb\": " << peak_rss_mb << ",\n  \"fps\": " << (wall_seconds > 0 ? frames / wall_seconds : 0.0)
-     << ",\n  \"static_matches\": " << static_matches << ",\n  \"dynamic_matches\": "
-     << dynamic_matches << ",\n";
-  os << "  \"ms\": {\n";
-  stage(os, "frontend", frontend_ms);
-  stage(os, "guess", guess_ms);
-  stage(os, "gmc", gmc_ms);
-  stage(os, "refinement", refine_ms);
-  stage(os, "odometry", odometry_ms);
-  stage(os, "dynamic_mask", mask_ms);
-  stage(os, "mapping", map_ms);
-  stage(os, "total", total_ms, true);
-  os << "  }";
-  if (has_map) os << ",\n  \"map\": " << mapping::toJson(map);
-  if (has_map_quality) os << ",\n  \"map_quality\": " << mapping::toJson(map_quality);
-  if (has_mask_score)
-    os << ",\n  \"dynamic_matches_vs_masks\": {\"precision\": " << mask_score.precision()
-       << ", \"recall\": " << mask_score.recall() << ", \"tp\": " << mask_score.tp
-       << ", \"fp\": " << mask_score.fp << ", \"fn\": " << mask_score.fn << "}"
-       << ",\n  \"dynamic_pixels_vs_masks\": {\"precision\": " << pixel_mask_score.precision()
-       << ", \"recall\": " << pixel_mask_score.recall() << ", \"tp\": " << pixel_mask_score.tp
-       << ", \"fp\": " << pixel_mask_score.fp << ", \"fn\": " << pixel_mask_score.fn << "}";
-  os << "\n}\n";
-  return os.str();
+  Json j = {{"frames", frames},          {"tracked", tracked},
+            {"lost", lost},              {"lost_pose_undetermined", lost_pose_undetermined},
+            {"reanchored", reanchored},  {"dropped", dropped},
+            {"skipped", skipped},        {"keyframes", keyframes},
+            {"map_inserts", map_inserts}, {"map_skipped", map_skipped},
+            {"interrupted", interrupted}, {"wall_seconds", wall_seconds},
+            {"peak_rss_mb", peak_rss_mb}, {"fps", wall_seconds > 0 ? frames / wall_seconds : 0.0},
+            {"static_matches", static_matches}, {"dynamic_matches", dynamic_matches}};
+  j["ms"] = {{"frontend", percentiles(frontend_ms)}, {"guess", percentiles(guess_ms)},
+             {"gmc", percentiles(gmc_ms)},           {"refinement", percentiles(refine_ms)},
+             {"odometry", percentiles(odometry_ms)}, {"dynamic_mask", percentiles(mask_ms)},
+             {"mapping", percentiles(map_ms)},       {"total", percentiles(total_ms)}};
+  j["stages"] = stagesJson(stages, wall_seconds);
+  j["queues"] = Json::object();
+  for (const auto& q : queues) j["queues"][q.name] = {{"capacity", q.capacity}, {"high_water", q.high_water}};
+  if (!lag_s.empty()) {
+    j["realtime_lag_s"] = percentiles(lag_s);
+    j["realtime_lag_s"]["max"] = *std::max_element(lag_s.begin(), lag_s.end());
+  }
+  if (has_map) j["map"] = Json::parse(mapping::toJson(map));
+  if (has_map_quality) j["map_quality"] = Json::parse(mapping::toJson(map_quality));
+  if (has_mask_score) {
+    j["dynamic_matches_vs_masks"] = score(mask_score);
+    j["dynamic_pixels_vs_masks"] = score(pixel_mask_score);
+  }
+  return j.dump(2) + "\n";
 }
 
 std::string PipelineReport::toText() const {
@@ -121,7 +134,7 @@ std::string PipelineReport::toText() const {
   os << std::fixed << std::setprecision(2);
   os << "frames " << frames << "  tracked " << tracked << "  lost " << lost << "  dropped "
      << dropped << "  skipped " << skipped << "  keyframes " << keyframes
-     << (interrupted ? "  (interrupted)" : "") << "\n";
+     << "  map skipped " << map_skipped << (interrupted ? "  (interrupted)" : "") << "\n";
   auto line = [&](const char* name, const std::vector<double>& v) {
     const auto p = Percentiles::of(v);
     os << "  " << std::left << std::setw(11) << name << std::right << std::setw(8) << p.median
@@ -137,6 +150,11 @@ std::string PipelineReport::toText() const {
   line("total", total_ms);
   os << "  " << (wall_seconds > 0 ? frames / wall_seconds : 0.0) << " frames/s overall, peak resident memory "
      << std::fixed << std::setprecision(0) << peak_rss_mb << " MB\n" << std::defaultfloat << std::setprecision(6);
+  if (!lag_s.empty()) {
+    const auto lag = Percentiles::of(lag_s);
+    os << "  realtime lag " << lag.median << " s median, " << lag.p95 << " s p95, "
+       << *std::max_element(lag_s.begin(), lag_s.end()) << " s max\n";
+  }
   if (has_map) os << "  map: " << mapping::toText(map) << "\n";
   if (has_map_quality)
     os << "  map vs ground truth: " << map_quality.ghost_voxels << " ghost voxels (of "

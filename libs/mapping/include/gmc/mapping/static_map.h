@@ -23,7 +23,7 @@ struct StaticMapOptions {
   double prob_miss = 0.4;
   double clamp_min = 0.12;
   double clamp_max = 0.97;
-  bool discretize = true;         ///< OctoMap's discretized insertion (one ray per voxel)
+  bool discretize = true;         ///< one ray per endpoint voxel (static and dynamic ends)
   bool use_dynamic_mask = true;   ///< false: insert everything (ablation: GMC poses, no mask)
   bool clear_dynamic_rays = true; ///< rays to dynamic pixels clear free space in front of them
   double dynamic_ray_margin = 0.15;  ///< m, stop clearing this far before a dynamic surface
@@ -80,12 +80,15 @@ class StaticMapBuilder {
   void writeBinary(const std::string& path) const;
 
  private:
+  void sampleEndpoints(const datasets::RgbdFrame& frame, const cv::Mat* mask, const Isometry& T_world_camera);
+  void addDynamicRays(const octomap::point3d& origin);
+
   StaticMapOptions options_;
   std::unique_ptr<octomap::OcTree> tree_;
   size_t frames_offered_ = 0, frames_ = 0;
   // Reused between frames (no allocation in steady state).
   octomap::Pointcloud cloud_;
-  octomap::KeySet free_keys_, occupied_keys_;
+  octomap::KeySet free_keys_, occupied_keys_, dynamic_keys_;
   octomap::KeyRay ray_;
   std::vector<Eigen::Vector3d> dynamic_ends_;
   cv::Mat dilated_mask_, kernel_;

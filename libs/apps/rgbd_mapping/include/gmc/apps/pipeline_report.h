@@ -26,9 +26,24 @@ double heapInUseMb();
 struct PipelineReport {
   size_t frames = 0, tracked = 0, lost = 0, reanchored = 0, keyframes = 0;
   size_t lost_pose_undetermined = 0;  ///< lost although enough inliers: pose not determined
-  size_t dropped = 0;   ///< realtime playback could not keep up
+  size_t dropped = 0;   ///< realtime: frames the odometry never processed (it was behind)
   size_t skipped = 0;   ///< frames that could not be read
   size_t map_inserts = 0;
+  size_t map_skipped = 0;  ///< realtime: tracked frames the map stage had no time for
+  /// Per stage (source, odometry, map): items handled and time spent on them.
+  struct Stage {
+    std::string name;
+    size_t items = 0;
+    double busy_s = 0;
+  };
+  std::vector<Stage> stages;
+  /// Bounded queues between the stages: capacity and most items ever queued.
+  struct Queue {
+    std::string name;
+    size_t capacity = 0, high_water = 0;
+  };
+  std::vector<Queue> queues;
+  std::vector<double> lag_s;  ///< realtime: per frame, end of its processing - its due time
   double wall_seconds = 0;
   double peak_rss_mb = 0;  ///< the process's peak resident memory (VmHWM)
   bool interrupted = false;
@@ -46,7 +61,10 @@ struct PipelineReport {
   /// pixels with depth (what the map could insert).
   datasets::BinaryScore pixel_mask_score;
 
-  void addFrame(const vo::FrameTracking& t, double map_insert_ms, double pipeline_ms);
+  /// One frame through the chain and odometry; `pipeline_ms`: its time on that stage.
+  void addFrame(const vo::FrameTracking& t, double pipeline_ms);
+  /// The map stage's insertion times (ms per frame that reached the tree).
+  void setMapTimes(std::vector<double> insert_ms);
   std::string toJson() const;
   std::string toText() const;
 };

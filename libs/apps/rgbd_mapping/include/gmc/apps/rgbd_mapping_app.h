@@ -54,12 +54,16 @@ struct PlaybackOptions {
   std::string mode = "as_fast_as_possible";  ///< or "realtime" (paced by timestamps)
   double rate = 1.0;                         ///< realtime speed factor
   bool progress = true;                      ///< progress line on a terminal
+  int frame_queue = 4;  ///< frames read ahead of the odometry (realtime: full = oldest dropped)
+  int map_queue = 8;    ///< tracked frames waiting for the map (realtime: full = one skipped)
 
   template <class V>
   void visit(V& v) {
     v.choice("mode", mode, {"as_fast_as_possible", "realtime"}, "playback pacing");
     v("rate", rate, 0.01, 100.0, "realtime speed factor");
-    v("progress", progress, "progress line (frame, fps, ETA) on a terminal");
+    v("progress", progress, "progress line (frame, fps, ETA, realtime lag) on a terminal");
+    v("frame_queue", frame_queue, 1, 1000, "frames read ahead of the odometry");
+    v("map_queue", map_queue, 1, 1000, "tracked frames waiting for the map insertion");
   }
 };
 
@@ -101,16 +105,14 @@ class RgbdMappingApp : public App {
   void initialize(const std::vector<std::string>& args) override;
   int run() override;
 
-  /// Asks a running run() to stop after the current frame (signal handlers call this).
+  /// Asks a running run() to stop: no frame is read after it; frames already read are
+  /// processed and inserted (signal handlers call this).
   static void requestStop();
 
   const std::string& outputDir() const { return out_dir_; }
 
  private:
-  void scoreAgainstMask(const datasets::RgbdFrame& frame, const cv::Mat& mask, const vo::FrameTracking& tracking,
-                        const cv::Mat& dynamic_mask, double max_range, PipelineReport& report) const;
-
-  std::string config_path_, input_path_, out_dir_, masks_dir_;
+  std::string config_path_, input_path_, out_dir_;
   bool print_config_ = false;  ///< --print-config: print the effective configuration, stop
   std::vector<std::string> overrides_;
   static std::atomic<bool> stop_requested_;
