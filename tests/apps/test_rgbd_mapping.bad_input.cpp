@@ -417,9 +417,8 @@ double motionError(const std::vector<gmc::datasets::StampedPose>& est,
 // front of the camera): no crash; each frame is tracked or lost and counted; frames are lost
 // only while the person is in view; once it has left, tracking is back and the camera motion
 // is right again. The untextured walker gives no matches; the frame where it covers all but
-// a strip of wall at the edge has enough inliers, but their geometry leaves the position
-// free by decimetres: that frame is lost ("pose not determined"), not tracked 17 cm off and
-// then extrapolated (which left the camera 0.51 m off before the check; now 0.09 m).
+// a strip of wall at the edge: that frame must be lost, not tracked 17 cm off and then
+// extrapolated (which left the camera 0.51 m off before the position-sigma check).
 TEST(RgbdMappingBadInput, PersonFillingTheWholeViewIsSurvivedAndTrackingRecovers) {
   const auto root = gmc::testdata::scratchDir("bad_person");
   const auto options = personFillsViewScene();
@@ -466,10 +465,12 @@ TEST(RgbdMappingBadInput, PersonFillingTheWholeViewIsSurvivedAndTrackingRecovers
   std::printf("  person fills the view in %ld frames (in view %d-%d), %ld lost; motion error %.3f m "
               "over the passage, %.3f m over the 15 frames after\n",
               static_cast<long>(filled), enters, left - 1, r.count("lost"), passage, after);
+  // With the landmark map the strip frame no longer reaches the position-sigma check:
+  // its few static landmarks are outvoted and it is lost for too few inliers (the check
+  // stays, see doc/robustness.md). The passage error went 0.51 m -> 0.09 m (sigma
+  // check) -> 0.002 m (landmark map).
   EXPECT_LT(after, 0.08);
-  EXPECT_LT(passage, 0.2);
-  EXPECT_GE(r.count("lost_pose_undetermined"), 1) << r.summary;
-  EXPECT_GE(r.lines("static inliers (position standard deviation"), 1u) << r.err;
+  EXPECT_LT(passage, 0.05);
 }
 
 // Ctrl-C and SIGTERM on the real executable (a child process): it stops reading, tracks the

@@ -58,6 +58,7 @@ void PipelineReport::addFrame(const vo::FrameTracking& t, double pipeline_ms) {
   if (t.state == vo::TrackingState::Lost) ++lost;
   if (t.state == vo::TrackingState::Reanchored) ++reanchored, ++lost;
   if (t.pose_undetermined) ++lost_pose_undetermined;
+  if (t.background_untrusted) ++lost_background_untrusted;
   if (t.new_keyframe) ++keyframes;
   static_matches += static_cast<size_t>(t.num_static);
   dynamic_matches += static_cast<size_t>(t.num_dynamic);
@@ -103,6 +104,7 @@ Json stagesJson(const std::vector<PipelineReport::Stage>& stages, double wall_se
 std::string PipelineReport::toJson() const {
   Json j = {{"frames", frames},          {"tracked", tracked},
             {"lost", lost},              {"lost_pose_undetermined", lost_pose_undetermined},
+            {"lost_background_untrusted", lost_background_untrusted},
             {"reanchored", reanchored},  {"dropped", dropped},
             {"skipped", skipped},        {"keyframes", keyframes},
             {"map_inserts", map_inserts}, {"map_skipped", map_skipped},
