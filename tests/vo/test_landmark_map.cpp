@@ -49,6 +49,18 @@ std::vector<LandmarkObservation> observeAll(const LandmarkMap& map, const Isomet
   return obs;
 }
 
+/// Adds a wall of n landmarks at stamp 0; returns their ids.
+std::vector<int> addWall(LandmarkMap& map, int n) {
+  const auto f = wallFeatures(n);
+  std::vector<int> ids;
+  for (const auto& [feature, id] :
+       map.addFeatures(f, std::vector<std::uint8_t>(static_cast<size_t>(n), 0),
+                       std::vector<MotionLabel>(static_cast<size_t>(n), MotionLabel::Undecided), Isometry::Identity(),
+                       0.0, 0))
+    ids.push_back(id);
+  return ids;
+}
+
 TEST(LandmarkMap, WallLandmarksBecomeStaticUnderAHoveringCamera) {
   LandmarkMap map;
   const auto f = wallFeatures(100);
@@ -76,11 +88,7 @@ TEST(LandmarkMap, WallLandmarksBecomeStaticUnderAHoveringCamera) {
 TEST(LandmarkMap, ALandmarkOnAWalkerThatMovesBecomesSuspectAndStaysSo) {
   LocalMapOptions o;
   LandmarkMap map(o);
-  const auto f = wallFeatures(20);
-  map.addFeatures(f, std::vector<std::uint8_t>(20, 0), std::vector<MotionLabel>(20, MotionLabel::Undecided),
-                  Isometry::Identity(), 0.0, 0);
-  std::vector<int> ids(20);
-  for (int i = 0; i < 20; ++i) ids[static_cast<size_t>(i)] = i;
+  const std::vector<int> ids = addWall(map, 20);
   const std::vector<int> walker{3, 4, 5};
   // Everything in place for 1.5 s: all static (a person standing still is no different).
   for (int frame = 1; frame <= 45; ++frame)
@@ -147,13 +155,8 @@ TEST(LandmarkMap, CullDropsLandmarksNeverRefoundButNotStaticOnesHiddenByACrowd) 
   LocalMapOptions o;
   o.cull_after_visible = 10;
   LandmarkMap map(o);
-  const auto f = wallFeatures(20);
-  map.addFeatures(f, std::vector<std::uint8_t>(20, 0), std::vector<MotionLabel>(20, MotionLabel::Undecided),
-                  Isometry::Identity(), 0.0, 0);
-  std::vector<int> ids(20);
-  for (int i = 0; i < 20; ++i) ids[static_cast<size_t>(i)] = i;
+  const std::vector<int> ids = addWall(map, 20);
   // Landmarks 0-9 seen in place for 1.5 s, 10-19 never re-found.
-  std::vector<LandmarkObservation> first_half;
   double stamp = 0;
   for (int frame = 1; frame <= 45; ++frame) {
     stamp = frame / 30.0;
