@@ -100,11 +100,12 @@ void record(const gmc::vo::FrameTracking& t, const cv::Mat& mask, int height, Se
     if (p.y >= 0.5 * height) ++lower;
     if (!mask.empty() && mask.at<std::uint8_t>(cvRound(p.y), cvRound(p.x))) ++on_people;
   }
-  const double n = std::max(1, t.num_matches);
   series["matches"].push_back(t.num_matches);
   series["static"].push_back(t.num_static);
   series["dynamic"].push_back(t.num_dynamic);
-  series["dynamic_share"].push_back(t.num_dynamic / n);
+  // Of the keypoints labelled static or dynamic: the odometry also labels keypoints it
+  // matched only to the previous frame, so num_dynamic can exceed the map matches.
+  series["dynamic_share"].push_back(t.num_dynamic / std::max(1.0, static_cast<double>(t.num_static + t.num_dynamic)));
   series["lower_half_share"].push_back(matched > 0 ? static_cast<double>(lower) / matched : 0.0);
   if (mask.empty()) return;
   series["people_pixels"].push_back(cv::countNonZero(mask) / static_cast<double>(mask.total()));
