@@ -192,7 +192,6 @@ void RgbdOdometry::matchToMap(const features::FeatureSet& cur, const Isometry& T
   track.landmark.clear();
   track.trust.weight.clear();
   track.trust.established.clear();
-  track.remembered.clear();
   track.matched.assign(cur.size(), 0);
   for (const auto& m : matches) {
     track.matched[static_cast<size_t>(m.cur)] = 1;
@@ -203,7 +202,6 @@ void RgbdOdometry::matchToMap(const features::FeatureSet& cur, const Isometry& T
     track.landmark.push_back(id);
     // A keypoint remembered as a walker is not trusted whatever its landmark says.
     const bool remembered = memory_[static_cast<size_t>(m.cur)] > 0;
-    track.remembered.push_back(remembered);
     track.trust.weight.push_back(remembered ? 0.0 : map_.weight(id, stamp));
     track.trust.established.push_back(!remembered && map_.evidence(id, stamp) == Evidence::Static);
   }
@@ -225,19 +223,14 @@ RefinementResult RgbdOdometry::refineOnBackground(const Isometry& T_world_guess,
     }
     if (label != MotionLabel::Static) continue;
     ++out.num_static;
-    // A landmark seen moving (or a remembered walker) that GMC labels static counts only
-    // where the chosen background motion explains it, and then as little as a young one:
-    // a walker who pauses barely pulls the pose, while background wrongly suspected in a
-    // crowded second (a slightly wrong pose displaces it twice) still holds it. Its label
-    // stays GMC's (a depth-edge corner that flipped is background for the mask).
-    double weight = track_.trust.weight[k];
-    if (weight <= 0) {
-      if (track_.remembered[k] || !background_.inlier(track_.motion[k], choice_.T_ref_cur)) continue;
-      weight = config_.local_map.young_weight;
-    }
+    // A landmark seen moving (or a remembered walker) stays out of the pose even when
+    // it stands still in this frame; its label stays GMC's (a depth-edge corner that
+    // flipped is background for the mask).
+    if (track_.trust.weight[k] <= 0) continue;
     const auto& m = track_.motion[k];
-    obs.push_back({map_[track_.landmark[k]].position, m.pixel.cast<double>(), m.point_cur.z(), weight});
-    max_weight = std::max(max_weight, weight);
+    obs.push_back({map_[track_.landmark[k]].position, m.pixel.cast<double>(), m.point_cur.z(),
+                   track_.trust.weight[k]});
+    max_weight = std::max(max_weight, track_.trust.weight[k]);
   }
   // Relative trust: young landmarks count less only next to landmarks with evidence.
   for (auto& o : obs) o.weight /= max_weight;

@@ -70,9 +70,6 @@ class BackgroundSelector {
   void select(const std::vector<MotionMatch>& matches, const MatchTrust& trust, const Isometry& predicted,
               double frame_gap, int image_width, int image_height, BackgroundChoice& out);
 
-  /// Within `scale` x the 3-D inlier threshold under T_ref_cur.
-  bool inlier(const MotionMatch& m, const Isometry& T, double scale = 1.0) const;
-
   /// Weighted number of matches within the 3-D inlier threshold under T_ref_cur.
   double support(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
                  const Isometry& T_ref_cur) const;
@@ -83,6 +80,7 @@ class BackgroundSelector {
   Isometry polish(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
                   Isometry T) const;
   double priorFactor(const Isometry& T, const Isometry& predicted, double frame_gap) const;
+  bool inlier(const MotionMatch& m, const Isometry& T, double scale = 1.0) const;
   std::uint64_t nextRandom();
 
   BackgroundOptions options_;

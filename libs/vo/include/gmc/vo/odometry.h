@@ -125,7 +125,6 @@ class RgbdOdometry {
     std::vector<int> cur_index;          ///< keypoint index in the current frame per match
     std::vector<int> landmark;           ///< landmark id per match
     MatchTrust trust;
-    std::vector<std::uint8_t> remembered;  ///< per match: keypoint remembered as a walker
     std::vector<std::uint8_t> matched;   ///< per current keypoint: matched to a landmark
     int num_matches = 0;                 ///< after GMS, with or without depth
   };
