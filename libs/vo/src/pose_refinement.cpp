@@ -11,6 +11,13 @@
 namespace gmc::vo {
 namespace {
 
+inline double huberWeight(double whitened, double k) {
+  const double a = std::abs(whitened);
+  return a <= k ? 1.0 : k / a;
+}
+
+}  // namespace
+
 /// exp map of a twist (rho, phi) to an isometry (left perturbation): MRPT's SO(3)
 /// exponential for the rotation; the translation is V rho, V the SO(3) left Jacobian
 /// (MRPT's SE<3>::exp is a pseudo-exponential that leaves rho as it is).
@@ -28,13 +35,6 @@ Isometry expSE3(const Eigen::Matrix<double, 6, 1>& xi) {
   T.translation() = V * rho;
   return T;
 }
-
-inline double huberWeight(double whitened, double k) {
-  const double a = std::abs(whitened);
-  return a <= k ? 1.0 : k / a;
-}
-
-}  // namespace
 
 double positionStdDev(const RefinementResult& result) {
   // For a left perturbation (rho, phi) of T_cur_ref the camera centre -R^T t moves by

@@ -1,5 +1,7 @@
 #include "gmc/vo/window_optimizer.h"
 
+#include <mrpt/math/geometry.h>
+
 #include <Eigen/Cholesky>
 #include <cmath>
 
@@ -9,27 +11,6 @@ namespace {
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat63 = Eigen::Matrix<double, 6, 3>;
-
-Eigen::Matrix3d skewOf(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
-Isometry expTwist(const Vec6& xi) {
-  const Eigen::Vector3d rho = xi.head<3>(), phi = xi.tail<3>();
-  const double theta = phi.norm();
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity(), V = Eigen::Matrix3d::Identity();
-  if (theta > 1e-10) {
-    const Eigen::Matrix3d K = skewOf(phi / theta);
-    R = Eigen::AngleAxisd(theta, phi / theta).toRotationMatrix();
-    V += (1 - std::cos(theta)) / theta * K + (theta - std::sin(theta)) / theta * K * K;
-  }
-  Isometry T = Isometry::Identity();
-  T.linear() = R;
-  T.translation() = V * rho;
-  return T;
-}
 
 /// Huber cost of a whitened residual of norm a, and its IRLS weight.
 double huberCost(double a, double k) { return a <= k ? a * a : 2 * k * a - k * k; }
@@ -69,17 +50,21 @@ Linearized linearize(const Isometry& T_cw, const Eigen::Vector3d& X, const Windo
   }
   Eigen::Matrix<double, 3, 6> dp;
   dp.leftCols<3>().setIdentity();
-  dp.rightCols<3>() = -skewOf(p);
+  Eigen::Matrix3d minus_p_cross;
+  mrpt::math::skew_symmetric3_neg(p, minus_p_cross);
+  dp.rightCols<3>() = minus_p_cross;
   l.J_pose = dres_dp * dp;
   l.J_point = dres_dp * T_cw.linear();
   return l;
 }
 
-double totalCost(const WindowProblem& pb, const PinholeCamera& camera, const RefinementOptions& noise) {
+double totalCost(const WindowProblem& pb, const std::vector<Isometry>& poses,
+                 const std::vector<Eigen::Vector3d>& points, const PinholeCamera& camera,
+                 const RefinementOptions& noise) {
   double c = 0;
   for (const auto& ob : pb.observations) {
-    const auto l = linearize(pb.poses[static_cast<size_t>(ob.keyframe)], pb.points[static_cast<size_t>(ob.landmark)],
-                             ob, camera, noise);
+    const auto l = linearize(poses[static_cast<size_t>(ob.keyframe)], points[static_cast<size_t>(ob.landmark)], ob,
+                             camera, noise);
     if (l.valid) c += l.cost;
   }
   return c;
@@ -125,7 +110,7 @@ NormalEquations buildNormalEquations(const WindowProblem& pb, const PinholeCamer
 WindowResult WindowOptimizer::optimize(WindowProblem& pb, const PinholeCamera& camera) const {
   WindowResult result;
   const size_t num_poses = pb.poses.size();
-  result.initial_cost = result.final_cost = totalCost(pb, camera, noise_);
+  result.initial_cost = result.final_cost = totalCost(pb, pb.poses, pb.points, camera, noise_);
   if (num_poses < 2 || pb.points.empty()) return result;
   std::vector<std::vector<size_t>> obs_of_point(pb.points.size());
   for (size_t o = 0; o < pb.observations.size(); ++o)
@@ -165,22 +150,23 @@ WindowResult WindowOptimizer::optimize(WindowProblem& pb, const PinholeCamera& c
     const Eigen::VectorXd dx = S.ldlt().solve(b);
     if (!dx.allFinite()) break;
     // Back-substitution, then accept the step only if the robust cost drops.
-    WindowProblem trial = pb;
+    std::vector<Isometry> trial_poses = pb.poses;
+    std::vector<Eigen::Vector3d> trial_points = pb.points;
     for (size_t k = 1; k < num_poses; ++k)
-      trial.poses[k] = expTwist(dx.segment<6>(6 * (k - 1))) * pb.poses[k];
+      trial_poses[k] = expSE3(dx.segment<6>(6 * (k - 1))) * pb.poses[k];
     for (size_t j = 0; j < pb.points.size(); ++j) {
       Eigen::Vector3d rhs = -ne.g_l[j];
       for (size_t a : obs_of_point[j]) {
         const size_t ka = static_cast<size_t>(pb.observations[a].keyframe);
         if (ka != 0) rhs -= ne.H_pl[a].transpose() * dx.segment<6>(6 * (ka - 1));
       }
-      trial.points[j] += H_ll_inv[j] * rhs;
+      trial_points[j] += H_ll_inv[j] * rhs;
     }
-    const double cost = totalCost(trial, camera, noise_);
+    const double cost = totalCost(pb, trial_poses, trial_points, camera, noise_);
     ++result.iterations;
     if (cost < result.final_cost) {
-      pb.poses.swap(trial.poses);
-      pb.points.swap(trial.points);
+      pb.poses.swap(trial_poses);
+      pb.points.swap(trial_points);
       const bool small = result.final_cost - cost < 1e-6 * result.final_cost;
       result.final_cost = cost;
       lambda = std::max(1e-7, lambda * 0.1);

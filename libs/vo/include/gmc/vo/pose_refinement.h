@@ -45,6 +45,10 @@ struct RefinementResult {
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
 };
 
+/// Exponential of a twist (rho, phi): the isometry of a left perturbation, shared by the
+/// frame refinement and the windowed optimisation.
+Isometry expSE3(const Eigen::Matrix<double, 6, 1>& xi);
+
 /// Standard deviation (m) of the current camera's position along its least constrained
 /// direction, from the result's information (infinite-like when there is none). Large
 /// when the points leave translation and rotation free to trade off, e.g. a narrow strip
