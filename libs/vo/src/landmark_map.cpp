@@ -81,6 +81,7 @@ void LandmarkMap::observe(const std::vector<LandmarkObservation>& observations,
   for (int id : visible) ++landmarks_[static_cast<size_t>(id)].visible;
   for (const auto& o : observations) {
     Landmark& l = landmarks_[static_cast<size_t>(o.landmark)];
+    if (!l.alive) continue;
     ++l.found;
     const Eigen::Vector3d seen = T_world_camera * o.point_cur;
     const double thr = threshold.at(o.point_cur.z());
@@ -106,12 +107,21 @@ void LandmarkMap::observe(const std::vector<LandmarkObservation>& observations,
       continue;
     }
     if (in_band) continue;  // GMC's dynamic label within the noise band: no evidence either way
-    // Out of place. GMC's label, or a displacement beyond moved_factor seen twice in a
-    // row, means it moved; a single jump is often a corner on a depth edge whose reading
-    // flips between foreground and background, which is not worth a suspicion.
+    // Out of place. GMC's label means it moved: it becomes suspect and follows what it
+    // is seen on, so that the walker keeps being recognised. A single jump is often a
+    // corner on a depth edge whose reading flips between foreground and background, not
+    // worth anything. A displacement beyond moved_factor twice in a row that GMC does not
+    // call motion is, on static scenes, mostly a look-alike corner matched in its place
+    // (the same wrong match recurs); following it would move the landmark onto another
+    // point. The landmark is dropped instead: a walker's corner is re-created (and
+    // labelled) at the next keyframe.
     ++l.moved_streak;
     const bool moved_far = moved > options_.moved_factor * thr;
-    if (dynamic_label || (moved_far && l.moved_streak >= 2)) {
+    if (moved_far && l.moved_streak >= 2 && !dynamic_label) {
+      l.alive = false;
+      continue;
+    }
+    if (dynamic_label) {
       l.suspect_until = stamp + options_.suspect_seconds;
     } else if (l.moved_streak < 3) {
       continue;

@@ -24,8 +24,8 @@ struct LocalMapOptions {
   double suspect_seconds = 3.0;   ///< a landmark seen moving is distrusted this long
   double young_weight = 0.1;      ///< trust in a landmark without evidence yet (static = 1)
   double in_place_factor = 2.0;   ///< re-observed within this x the inlier threshold = in place
-  double moved_factor = 4.0;      ///< displacement above this x the inlier threshold = moved
-                                  ///< (above in_place_factor when GMC labels it dynamic)
+  double moved_factor = 4.0;      ///< displaced above this x the inlier threshold twice in a
+                                  ///< row (not labelled dynamic): dropped
   int cull_after_visible = 20;    ///< judge a landmark's re-finding rate after this many views
   double cull_found_ratio = 0.2;  ///< ... and drop it when found in fewer of them
   int view_margin_px = 10;        ///< landmarks projecting this far outside still count as visible
@@ -42,7 +42,7 @@ struct LocalMapOptions {
     v("in_place_factor", in_place_factor, 0.1, 1000.0,
       "re-observed within this many inlier thresholds of its position: in place");
     v("moved_factor", moved_factor, 1.0, 1000.0,
-      "displacement above this many inlier thresholds marks a landmark as moved");
+      "displaced above this many inlier thresholds twice in a row (not labelled dynamic): dropped");
     v("cull_after_visible", cull_after_visible, 1, 100000,
       "views after which a rarely re-found landmark is dropped");
     v("cull_found_ratio", cull_found_ratio, 0.0, 1.0,
@@ -114,9 +114,10 @@ class LandmarkMap {
 
   /// Evidence update from a tracked frame at T_world_camera: in place (within
   /// in_place_factor thresholds, not labelled dynamic) adds evidence; out of place and
-  /// labelled dynamic, or beyond moved_factor thresholds twice in a row, it moved: it
-  /// becomes suspect and its evidence restarts where it was seen. A suspect landmark
-  /// follows what it is seen on. `visible` are the ids searched for in this frame.
+  /// labelled dynamic, it moved: it becomes suspect and its evidence restarts where it
+  /// was seen. A suspect landmark follows what it is seen on. Beyond moved_factor
+  /// thresholds twice in a row without GMC's dynamic label, it is dropped (a recurring
+  /// wrong match, or a walker GMC did not see). `visible` are the ids searched for.
   void observe(const std::vector<LandmarkObservation>& observations, const std::vector<int>& visible,
                const Isometry& T_world_camera, double stamp, const InPlaceThreshold& threshold);
 
