@@ -184,6 +184,8 @@ void RgbdOdometry::matchToMap(const features::FeatureSet& cur, const Isometry& T
   if (static_cast<int>(matches.size()) < config_.odometry.min_matches)
     matches = frontend_.matchGuided(ref, cur, identity, camera, config_.odometry.wide_match_radius);
   if (static_cast<int>(matches.size()) < config_.odometry.min_matches) matches = frontend_.matchExhaustive(ref, cur);
+  if (config_.odometry.relocalize_static && lost_streak_ > 0)
+    addStaticLandmarkMatches(ref, cur, stamp, track.view.ids, matches);
   matches = frontend_.filterGms(ref, cur, matches);
   track.num_matches = static_cast<int>(matches.size());
 
@@ -204,6 +206,36 @@ void RgbdOdometry::matchToMap(const features::FeatureSet& cur, const Isometry& T
     const bool remembered = memory_[static_cast<size_t>(m.cur)] > 0;
     track.trust.weight.push_back(remembered ? 0.0 : map_.weight(id, stamp));
     track.trust.established.push_back(!remembered && map_.evidence(id, stamp) == Evidence::Static);
+  }
+}
+
+void RgbdOdometry::addStaticLandmarkMatches(const features::FeatureSet& ref, const features::FeatureSet& cur,
+                                            double stamp, const std::vector<int>& ids,
+                                            std::vector<features::FeatureMatch>& matches) const {
+  // After a lost frame the prediction has drifted off the camera and guided matching
+  // finds mostly what moved with it. The landmarks with static evidence (the few that
+  // held the pose for seconds) are searched over the whole image as well: cheap (tens
+  // to hundreds of them) and independent of the prediction.
+  features::FeatureSet established;
+  std::vector<int> index;
+  established.width = ref.width;
+  established.height = ref.height;
+  for (size_t i = 0; i < ids.size(); ++i) {
+    if (map_.evidence(ids[i], stamp) != Evidence::Static) continue;
+    index.push_back(static_cast<int>(i));
+    established.keypoints.push_back(ref.keypoints[i]);
+    established.points.push_back(ref.points[i]);
+  }
+  if (index.empty()) return;
+  established.descriptors.create(static_cast<int>(index.size()), 32, CV_8UC1);
+  for (size_t k = 0; k < index.size(); ++k)
+    ref.descriptors.row(index[k]).copyTo(established.descriptors.row(static_cast<int>(k)));
+  std::vector<std::uint8_t> ref_used(ref.size(), 0), cur_used(cur.size(), 0);
+  for (const auto& m : matches) ref_used[static_cast<size_t>(m.ref)] = cur_used[static_cast<size_t>(m.cur)] = 1;
+  for (auto m : frontend_.matchExhaustive(established, cur)) {
+    m.ref = index[static_cast<size_t>(m.ref)];
+    if (ref_used[static_cast<size_t>(m.ref)] || cur_used[static_cast<size_t>(m.cur)]) continue;
+    matches.push_back(m);
   }
 }
 

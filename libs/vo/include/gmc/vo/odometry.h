@@ -21,6 +21,8 @@ struct OdometryOptions {
   int min_static_inliers = 20;          ///< fewer static inliers after refinement = lost
   int min_matches = 30;                 ///< fewer map matches: retry with a wider window
   int wide_match_radius = 100;          ///< px, second attempt of guided matching
+  bool relocalize_static = true;        ///< after a lost frame, landmarks with static
+                                        ///< evidence are also matched over the whole image
   bool use_motion_model = true;         ///< constant-velocity prediction
   bool motion_prior = false;            ///< the prediction also joins the refinement as a
                                         ///< Gaussian prior ([Background] prior_* widths)
@@ -38,6 +40,8 @@ struct OdometryOptions {
     v("min_static_inliers", min_static_inliers, 3, 100000, "fewer static inliers = lost");
     v("min_matches", min_matches, 3, 100000, "fewer map matches: retry with a wider window");
     v("wide_match_radius", wide_match_radius, 1, 2000, "px, second guided-matching window");
+    v("relocalize_static", relocalize_static,
+      "after a lost frame, also match the landmarks with static evidence over the whole image");
     v("use_motion_model", use_motion_model, "constant-velocity motion prediction");
     v("motion_prior", motion_prior, "the prediction joins the refinement as a prior ([Background] prior_*)");
     v("previous_frame_labels", previous_frame_labels,
@@ -138,6 +142,8 @@ class RgbdOdometry {
   void initialize(features::FeatureSet&& cur, double stamp, FrameTracking& out);
   void matchToMap(const features::FeatureSet& cur, const Isometry& T_world_pred, const PinholeCamera& camera,
                   double stamp, MapTrack& track) const;
+  void addStaticLandmarkMatches(const features::FeatureSet& ref, const features::FeatureSet& cur, double stamp,
+                                const std::vector<int>& ids, std::vector<features::FeatureMatch>& matches) const;
   void matchPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_pred,
                           const PinholeCamera& camera);
   RefinementResult refineOnBackground(const Isometry& T_world_guess, const Isometry& T_world_pred,
