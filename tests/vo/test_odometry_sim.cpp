@@ -80,4 +80,43 @@ TEST(OdometrySim, CrowdScenarioStaysWithinCentimetres) {
   EXPECT_LT(rms_with, 0.5 * rms_without);
 }
 
+/// Tracks 45 frames of a camera among walkers, then sees `blind` blank frames while the
+/// camera moves on, then the scene again; returns the frames not tracked after the
+/// blind stretch and the last frame's position error.
+std::pair<int, double> lostAfterBlindStretch(int walkers, int blind) {
+  auto o = gmc::sim::SimOptions::exact();
+  o.people.walkers = walkers;
+  o.trajectory.style = "halfsphere";
+  const gmc::sim::Simulator sim(o);
+  gmc::vo::RgbdOdometry vo{gmc::vo::OdometryConfig{}};
+  const gmc::Isometry T0_inv = sim.cameraPose(0).inverse();
+  int lost_after = 0;
+  double error = 0;
+  for (int i = 0; i < 45 + blind + 20; ++i) {
+    const auto f = sim.renderFrame(i);
+    cv::Mat gray;
+    cv::cvtColor(f.frame.rgb, gray, cv::COLOR_BGR2GRAY);
+    if (i >= 45 && i < 45 + blind) gray.setTo(0);
+    const auto t = vo.process(gray, f.frame.depth, f.frame.depth_units, f.frame.camera, f.frame.stamp);
+    if (i >= 45 + blind) lost_after += t.state != gmc::vo::TrackingState::Tracking;
+    error = (t.T_world_camera.translation() - (T0_inv * f.T_world_camera).translation()).norm();
+  }
+  return {lost_after, error};
+}
+
+// After half a second of lost frames the prediction is decimetres off the camera. The
+// first frames that see the scene again must be judged with a prior that widened over
+// the lost frames (else only the stale prediction can win, and the landmarks that
+// disagree with it make the background "untrusted"), and the step from the predicted
+// pose back onto the map is a correction, not a velocity to extrapolate.
+TEST(OdometrySim, TrackingResumesOnTheMapAfterABlindStretch) {
+  for (int walkers : {4, 6}) {
+    const auto [lost, error] = lostAfterBlindStretch(walkers, 15);
+    std::printf("  %d walkers, 15 blind frames: %d of the 20 frames after them not tracked, final error %.4f m\n",
+                walkers, lost, error);
+    EXPECT_LE(lost, 1) << walkers << " walkers";
+    EXPECT_LT(error, 0.01) << walkers << " walkers";
+  }
+}
+
 }  // namespace

@@ -96,8 +96,9 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
 
   // 2. The background: motion hypotheses judged by GMC and the landmarks' static evidence.
   t0 = Clock::now();
-  background_.select(track_.motion, track_.trust, Isometry::Identity(), stamp - last_stamp_, cur.width,
-                     cur.height, choice_);
+  // The prior widens with every lost frame: their poses are guesses.
+  background_.select(track_.motion, track_.trust, Isometry::Identity(), (stamp - last_stamp_) * (1 + lost_streak_),
+                     cur.width, cur.height, choice_);
   out.gmc = choice_.gmc;
   out.background_source = choice_.source;
   out.static_landmarks_matched = choice_.established_matched;
@@ -293,8 +294,10 @@ void RgbdOdometry::decideTracking(const RefinementResult& refined, Isometry T_wo
   const bool determined = o.max_position_sigma <= 0 || out.position_sigma <= o.max_position_sigma;
   if (enough && determined && trustworthy) {
     out.state = TrackingState::Tracking;
+    // After lost frames the last pose was a prediction: the step from it is the
+    // correction of the prediction's error, not the camera's velocity.
+    if (lost_streak_ == 0) velocity_ = T_world_last_.inverse() * T_world_cur;
     lost_streak_ = 0;
-    velocity_ = T_world_last_.inverse() * T_world_cur;
     out.T_world_camera = T_world_cur;
     return;
   }
