@@ -320,13 +320,7 @@ void RgbdOdometry::decideTracking(const RefinementResult& refined, Isometry T_wo
   out.state = TrackingState::Lost;
   out.T_world_camera = T_world_pred;
   ++lost_streak_;
-  // Lost among people, the velocity may be the one that lost tracking: it is halved, so
-  // the prediction comes to a stop. Lost with hardly anything distrusted, the map fell
-  // behind a camera moving on over a static scene: the camera keeps its velocity.
-  size_t distrusted = static_cast<size_t>(out.num_dynamic);
-  for (double w : track_.trust.weight) distrusted += w <= 0;
-  if (static_cast<double>(distrusted) >= o.lost_keep_velocity_below * static_cast<double>(track_.motion.size()))
-    velocity_ = halved(velocity_);
+  velocity_ = halved(velocity_);
 }
 
 void RgbdOdometry::labelAgainstPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_cur,

@@ -31,9 +31,6 @@ struct OdometryOptions {
                                         ///< labelled (for masks; not for the pose)
   int dynamic_memory_frames = 0;        ///< a keypoint labelled dynamic stays dynamic this
                                         ///< many frames while it is matched frame to frame
-  double lost_keep_velocity_below = 0.1;  ///< a lost frame whose map matches are less than
-                                        ///< this fraction dynamic or suspect keeps its
-                                        ///< velocity; otherwise it is halved per lost frame
   double max_position_sigma = 0.10;     ///< m; a pose whose camera position is less well
                                         ///< determined than this (standard deviation along
                                         ///< its weakest direction) is lost (0 = no check)
@@ -51,8 +48,6 @@ struct OdometryOptions {
       "label keypoints unmatched to the map by GMC against the previous frame");
     v("dynamic_memory_frames", dynamic_memory_frames, 0, 100000,
       "frames a dynamic label is remembered along frame-to-frame matches (0 = off)");
-    v("lost_keep_velocity_below", lost_keep_velocity_below, 0.0, 1.0,
-      "lost frames whose map matches are less than this fraction dynamic or suspect keep the velocity");
     v("max_position_sigma", max_position_sigma, 0.0, 100.0,
       "m, lost when the position's standard deviation along its weakest direction exceeds this (0 = off)");
   }
