@@ -11,6 +11,21 @@
 
 namespace {
 
+/// Renders simulated frame i and tracks it (blanked: an all-black image, as a covered lens).
+struct SimStep {
+  gmc::sim::SimFrame rendered;
+  gmc::vo::FrameTracking tracking;
+};
+SimStep trackSimFrame(const gmc::sim::Simulator& sim, gmc::vo::RgbdOdometry& vo, int i, bool blanked = false) {
+  SimStep step{sim.renderFrame(i), {}};
+  const auto& f = step.rendered.frame;
+  cv::Mat gray;
+  cv::cvtColor(f.rgb, gray, cv::COLOR_BGR2GRAY);
+  if (blanked) gray.setTo(0);
+  step.tracking = vo.process(gray, f.depth, f.depth_units, f.camera, f.stamp);
+  return step;
+}
+
 /// Runs the odometry over simulated frames; returns the worst position error against
 /// the ground truth (both expressed relative to the first frame).
 double worstError(const gmc::sim::SimOptions& options, const gmc::vo::OdometryConfig& config, int frames,
@@ -20,10 +35,7 @@ double worstError(const gmc::sim::SimOptions& options, const gmc::vo::OdometryCo
   const gmc::Isometry T0_inv = sim.cameraPose(0).inverse();
   double worst = 0, sum_sq = 0;
   for (int i = 0; i < frames; ++i) {
-    const auto f = sim.renderFrame(i);
-    cv::Mat gray;
-    cv::cvtColor(f.frame.rgb, gray, cv::COLOR_BGR2GRAY);
-    const auto t = vo.process(gray, f.frame.depth, f.frame.depth_units, f.frame.camera, f.frame.stamp);
+    const auto [f, t] = trackSimFrame(sim, vo, i);
     if (lost) *lost += t.state == gmc::vo::TrackingState::Lost;
     const gmc::Isometry truth = T0_inv * f.T_world_camera;
     const double e = (t.T_world_camera.translation() - truth.translation()).norm();
@@ -93,11 +105,7 @@ std::pair<int, double> lostAfterBlindStretch(int walkers, int blind) {
   int lost_after = 0;
   double error = 0;
   for (int i = 0; i < 45 + blind + 20; ++i) {
-    const auto f = sim.renderFrame(i);
-    cv::Mat gray;
-    cv::cvtColor(f.frame.rgb, gray, cv::COLOR_BGR2GRAY);
-    if (i >= 45 && i < 45 + blind) gray.setTo(0);
-    const auto t = vo.process(gray, f.frame.depth, f.frame.depth_units, f.frame.camera, f.frame.stamp);
+    const auto [f, t] = trackSimFrame(sim, vo, i, i >= 45 && i < 45 + blind);
     if (i >= 45 + blind) lost_after += t.state != gmc::vo::TrackingState::Tracking;
     error = (t.T_world_camera.translation() - (T0_inv * f.T_world_camera).translation()).norm();
   }

@@ -122,12 +122,10 @@ void BackgroundSelector::select(const std::vector<MotionMatch>& matches, const M
                         "ransac_all"});
 
   out.score = -1;
-  out.hypotheses = 0;
   for (size_t c = 0; c < candidates.size(); ++c) {
     bool seen = false;
     for (size_t k = 0; k < c; ++k) seen = seen || similar(candidates[k].T, candidates[c].T);
     if (seen) continue;
-    ++out.hypotheses;
     gmc_.classify(matches, candidates[c].T, image_width, image_height, scratch_);
     // Evidence counts the static matches the hypothesis explains: when no cluster sits at
     // zero motion GMC falls back to the largest one, which the hypothesis does not explain.

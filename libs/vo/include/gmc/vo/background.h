@@ -53,7 +53,6 @@ struct BackgroundChoice {
   GmcResult gmc;                              ///< GMC's labels under it
   const char* source = "prediction";          ///< prediction | ransac_static | ransac_all
   double score = 0;                           ///< evidence-weighted static support x prior
-  int hypotheses = 0;                         ///< distinct hypotheses judged
   int established_matched = 0;                ///< matches on static-evidence landmarks ...
   int established_agreeing = 0;               ///< ... of which labelled static
   bool trustworthy = true;                    ///< false: the static landmarks disagree
@@ -70,11 +69,10 @@ class BackgroundSelector {
   void select(const std::vector<MotionMatch>& matches, const MatchTrust& trust, const Isometry& predicted,
               double frame_gap, int image_width, int image_height, BackgroundChoice& out);
 
+ private:
   /// Weighted number of matches within the 3-D inlier threshold under T_ref_cur.
   double support(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
                  const Isometry& T_ref_cur) const;
-
- private:
   Isometry ransac(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
                   const std::vector<int>& pool, const Isometry& fallback);
   Isometry polish(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
