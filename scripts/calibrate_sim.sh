@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Regenerates doc/sim.md's calibration table: the same per-frame statistics of the
 # odometry's matches (bench/calibration_stats.cpp) on the two shared Bonn crowd windows
-# and on config/sim/crowd.ini, and each sequence's ATE with GMC off.
+# and on config/sim/crowd.ini and stop_and_go.ini, and each sequence's ATE with GMC off.
 #
-#   ./scripts/calibrate_sim.sh [SEED...]      # crowd.ini seeds, default: 1 2
+#   ./scripts/calibrate_sim.sh [SEED...]      # seeds of each scenario, default: 1 2
+#   GMC_CALIB_SCENARIOS="crowd stop_and_go"    # config/sim/<name>.ini scenarios (this default)
 #
 # Sim sequences have 150 frames, like the real windows (150 and 160). Output: the
 # markdown table on stdout; JSON and runs in ${GMC_CALIB_DIR:-out/calibration}.
@@ -37,11 +38,14 @@ for window in bonn_crowd_240_389 bonn_crowd_301_460; do
     echo "calibrate_sim: $data/$window not found, skipped" >&2
   fi
 done
-for seed in "${seeds[@]}"; do
-  name="sim_crowd_seed$seed"
-  "$bin/gmc-sim" config/sim/crowd.ini --out "$out/data/$name" --seed "$seed" --frames 150 >/dev/null
-  measure "$name" "$out/data/$name" config/default.ini fr3
-  rows+=("$name")
+read -r -a scenarios <<<"${GMC_CALIB_SCENARIOS:-crowd stop_and_go}"
+for scenario in "${scenarios[@]}"; do
+  for seed in "${seeds[@]}"; do
+    name="sim_${scenario}_seed$seed"
+    "$bin/gmc-sim" "config/sim/$scenario.ini" --out "$out/data/$name" --seed "$seed" --frames 150 >/dev/null
+    measure "$name" "$out/data/$name" config/default.ini fr3
+    rows+=("$name")
+  done
 done
 
 python3 - "$out" "${rows[@]}" <<'PY'

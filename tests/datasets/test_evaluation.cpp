@@ -95,6 +95,23 @@ TEST(Json, RecordsTheRpeDeltaThatWasUsed) {
   EXPECT_EQ(j.at("rpe").at("trans_rmse").get<double>(), 0.0);
 }
 
+// Where along the run the error lives: one [stamp, error] pair per associated pose.
+TEST(Json, ListsEveryPosesErrorWithItsStamp) {
+  const auto gt = circle(50, 4);
+  auto est = gt;
+  est[20].pose.translation().x() += 0.3;  // one pose off
+  const AteResult ate = computeAte(gt, est);
+  const auto per_pose = nlohmann::json::parse(evaluationJson(ate, computeRpe(gt, est))).at("ate").at("per_pose");
+  ASSERT_EQ(per_pose.size(), ate.pairs);
+  size_t worst = 0;
+  for (size_t i = 0; i < per_pose.size(); ++i) {
+    EXPECT_EQ(per_pose[i].at(0).get<double>(), ate.stamps[i]);
+    EXPECT_EQ(per_pose[i].at(1).get<double>(), ate.errors[i]);
+    if (ate.errors[i] > ate.errors[worst]) worst = i;
+  }
+  EXPECT_EQ(per_pose[worst].at(0).get<double>(), est[20].stamp);
+}
+
 // NaN and infinity have no JSON spelling: they are written as null (documented in
 // doc/evaluation.md), so the file stays valid JSON.
 TEST(Json, NonFiniteValuesAreNull) {

@@ -31,6 +31,26 @@ std::vector<double> coverage(const Simulator& sim, int step) {
   return out;
 }
 
+/// An empty office seen by a static camera, noise-free.
+SimOptions emptyOffice() {
+  SimOptions o = SimOptions::exact();
+  o.trajectory.style = "static";
+  o.people.walkers = 0;
+  o.room.style = "office";
+  return o;
+}
+
+/// GFTT corners of the first frame (quality relative to the frame's strongest corner)
+/// whose image row satisfies `in_rows`.
+template <class RowTest>
+long cornersIn(const SimOptions& o, double quality, double min_distance, RowTest in_rows) {
+  cv::Mat gray;
+  cv::cvtColor(Simulator(o).renderFrame(0).frame.rgb, gray, cv::COLOR_BGR2GRAY);
+  std::vector<cv::Point2f> c;
+  cv::goodFeaturesToTrack(gray, c, 5000, quality, min_distance);
+  return static_cast<long>(std::count_if(c.begin(), c.end(), [&](const cv::Point2f& p) { return in_rows(p.y / gray.rows); }));
+}
+
 TEST(Scenarios, NoiseFreeStaticPixelsReprojectExactly) {
   for (const char* name : {"crowd", "person_tracking", "synchronous", "close_pass"}) {
     SimOptions o = small(scenario(name));
@@ -121,6 +141,43 @@ TEST(Scenarios, ClosePassFillsSixtyPercentOfTheViewForTenFrames) {
   }
 }
 
+TEST(Scenarios, StopAndGoWalkersStandStillInViewThenWalkOn) {
+  const SimOptions o = scenario("stop_and_go");
+  ASSERT_GT(o.people.pause_min, 0);
+  const Simulator sim(o);
+  const double dt = 1.0 / o.simulator.fps;
+  const auto steps = static_cast<int>(30.0 / dt);  // 30 s: every walker passes at least once
+  std::vector<double> longest_stand(static_cast<size_t>(o.people.walkers), 0), stand(longest_stand);
+  std::vector<double> fastest(longest_stand);
+  for (int i = 0; i < steps; ++i) {
+    const auto a = sim.peoplePositions(i * dt), b = sim.peoplePositions((i + 1) * dt);
+    for (size_t k = 0; k < stand.size(); ++k) {
+      const double speed = (b[k] - a[k]).norm() / dt;
+      fastest[k] = std::max(fastest[k], speed);
+      stand[k] = speed < 1e-9 ? stand[k] + dt : 0;
+      longest_stand[k] = std::max(longest_stand[k], stand[k]);
+    }
+  }
+  for (size_t k = 0; k < stand.size(); ++k) {
+    std::printf("  walker %zu: stands up to %.1f s, walks up to %.2f m/s\n", k, longest_stand[k], fastest[k]);
+    EXPECT_GE(longest_stand[k], o.people.pause_min - 2 * dt) << "walker " << k;
+    EXPECT_LE(longest_stand[k], o.people.pause_max + 2 * dt) << "walker " << k;
+    EXPECT_GE(fastest[k], o.people.speed_min - 1e-6) << "walker " << k;
+  }
+}
+
+TEST(Scenarios, PlainOfficeFloorOffersFewerCornersThanTheSpeckledOne) {
+  SimOptions o = emptyOffice();
+  o.trajectory.tilt = 12;
+  // The bottom fifth of a camera tilted down sees floor only.
+  const auto bottom_fifth = [](double row) { return row > 0.8; };
+  const long speckle = cornersIn(o, 0.005, 10, bottom_fifth);
+  o.room.floor = "plain";
+  const long plain = cornersIn(o, 0.005, 10, bottom_fifth);
+  std::printf("  GFTT corners in the bottom fifth: speckled floor %ld, plain floor %ld\n", speckle, plain);
+  EXPECT_LT(plain * 3, speckle);
+}
+
 TEST(Scenarios, SameSeedSameFramesWhateverTheThreads) {
   SimOptions o = small(scenario("crowd"));
   o.simulator.threads = 1;
@@ -194,24 +251,13 @@ TEST(Scenarios, MotionBlurChangesColoursOnlyNearMovingPeople) {
 }
 
 TEST(Scenarios, OfficeWallsAreBareAboveTheFurniture) {
-  SimOptions o = SimOptions::exact();
-  o.trajectory.style = "static";
-  o.people.walkers = 0;
-  o.room.style = "office";
-  cv::Mat gray;
-  // GFTT over the whole frame (quality relative to the frame's strongest corner), counted
-  // in the top third: above the furniture there is only wall.
-  const auto corners = [&](const SimOptions& opts) {
-    cv::cvtColor(Simulator(opts).renderFrame(0).frame.rgb, gray, cv::COLOR_BGR2GRAY);
-    std::vector<cv::Point2f> c;
-    cv::goodFeaturesToTrack(gray, c, 5000, 0.01, 5);
-    return std::count_if(c.begin(), c.end(), [&](const cv::Point2f& p) { return p.y < gray.rows / 3; });
-  };
-  const auto office = corners(o);
+  SimOptions o = emptyOffice();
+  // Counted in the top third: above the furniture there is only wall.
+  const auto top_third = [](double row) { return row < 1.0 / 3; };
+  const long office = cornersIn(o, 0.01, 5, top_third);
   o.room.style = "tiles";
-  const auto tiles = corners(o);
-  std::printf("  GFTT corners in the top third: office %ld, tiled room %ld\n", static_cast<long>(office),
-              static_cast<long>(tiles));
+  const long tiles = cornersIn(o, 0.01, 5, top_third);
+  std::printf("  GFTT corners in the top third: office %ld, tiled room %ld\n", office, tiles);
   EXPECT_LT(office * 5, tiles);
 }
 
@@ -222,6 +268,8 @@ TEST(Scenarios, InconsistentNewKeysAreNamedErrors) {
       {"[Room]\nstyle = castle\n", "style"},
       {"[Room]\nwindows = 3\n", "windows"},
       {"[People]\nclothes = fur\n", "clothes"},
+      {"[People]\npause_min = 3\npause_max = 2\n", "pause_min"},
+      {"[Room]\nfloor = carpet\n", "floor"},
       {"[Sensor]\nblur_samples = 1\n", "blur_samples"},
   };
   for (const auto& [text, key] : cases) {

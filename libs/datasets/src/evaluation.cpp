@@ -105,6 +105,9 @@ std::string evaluationJson(const AteResult& ate, const RpeResult& rpe) {
               {"median", number(ate.error.median)},
               {"max", number(ate.error.max)},
               {"pairs", ate.pairs}};
+  // Per pose, so a user can see where along the run the error lives.
+  auto& per_pose = j["ate"]["per_pose"] = nlohmann::ordered_json::array();
+  for (size_t i = 0; i < ate.errors.size(); ++i) per_pose.push_back({number(ate.stamps[i]), number(ate.errors[i])});
   j["rpe"] = {{"trans_rmse", number(rpe.translation.rmse)},
               {"trans_median", number(rpe.translation.median)},
               {"rot_rmse", number(rpe.rotation.rmse)},

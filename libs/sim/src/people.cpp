@@ -49,20 +49,37 @@ void poseSeated(const Person& person, double time, std::vector<Primitive>& out) 
 }  // namespace
 
 PathState pathState(const Eigen::Vector2d& from, const Eigen::Vector2d& to, double speed, double offset,
-                    double time) {
+                    double time, double pause, double stop) {
   const Eigen::Vector2d span = to - from;
-  const double L = std::max(span.norm(), 1e-9), walked = offset + speed * time;
-  const double d = std::fmod(walked, 2 * L);
-  const bool outward = d < L;
+  const double L = std::max(span.norm(), 1e-9);
   PathState s;
-  s.at = from + span * ((outward ? d : 2 * L - d) / L);
+  if (pause <= 0) {  // a walker that never stops: its clock is the distance walked
+    const double walked = offset + speed * time, d = std::fmod(walked, 2 * L);
+    const bool outward = d < L;
+    s.at = from + span * ((outward ? d : 2 * L - d) / L);
+    s.heading = span.normalized() * (outward ? 1.0 : -1.0);
+    s.walked = walked;
+    return s;
+  }
+  // A stop inserts `pause` seconds at the stop point of every pass (each way), the gait phase held meanwhile.
+  const double leg = L / std::max(speed, 1e-9) + pause;
+  const double clock = offset / std::max(speed, 1e-9) + time;
+  const double cycles = std::floor(clock / (2 * leg));
+  double in_cycle = clock - cycles * 2 * leg;
+  const bool outward = in_cycle < leg;
+  if (!outward) in_cycle -= leg;
+  const double to_stop = (outward ? stop : 1 - stop) * L / std::max(speed, 1e-9);
+  const double walking = in_cycle < to_stop ? in_cycle : in_cycle < to_stop + pause ? to_stop : in_cycle - pause;
+  const double d = std::min(L, speed * walking);  // along this pass
+  s.at = outward ? Eigen::Vector2d(from + span * (d / L)) : Eigen::Vector2d(to - span * (d / L));
   s.heading = span.normalized() * (outward ? 1.0 : -1.0);
-  s.walked = walked;
+  s.walked = cycles * 2 * L + (outward ? d : L + d);
   return s;
 }
 
 PathState personState(const Person& person, const PathState& camera_walk, double time) {
-  if (!person.with_camera) return pathState(person.from, person.to, person.speed, person.offset, time);
+  if (!person.with_camera)
+    return pathState(person.from, person.to, person.speed, person.offset, time, person.pause, person.stop);
   PathState s = camera_walk;
   s.at += person.camera_offset;
   s.walked += person.offset;  // own gait phase, same speed

@@ -16,13 +16,16 @@ struct PathState {
   double walked = 0;                                  ///< distance walked so far (m): the gait phase
 };
 
-/// Back and forth between `from` and `to` at `speed`, starting `offset` metres along.
+/// Back and forth between `from` and `to` at `speed`, starting `offset` metres along;
+/// on every pass standing still for `pause` seconds at `stop` (fraction of the way from
+/// `from`; 0 pause = never stops).
 PathState pathState(const Eigen::Vector2d& from, const Eigen::Vector2d& to, double speed, double offset,
-                    double time);
+                    double time, double pause = 0, double stop = 0.5);
 
 struct Person {
   Eigen::Vector2d from = Eigen::Vector2d::Zero(), to = Eigen::Vector2d::Zero();  ///< path ends
   double speed = 1, offset = 0, height = 1.75;
+  double pause = 0, stop = 0.5;    ///< s standing still on every pass, where (fraction of the path)
   Material top, bottom, skin;
   bool sitting = false;
   Eigen::Vector2d seat = Eigen::Vector2d::Zero();

@@ -16,6 +16,8 @@ SimOptions loadSimOptions(const mrpt::config::CConfigFileBase& ini, const std::s
   if (!unknown.empty()) throw cfg::ConfigError(source + ": unknown section [" + unknown.front() + "]");
   if (o.people.speed_min > o.people.speed_max)
     throw cfg::ConfigError(source + ": [People] speed_min is above speed_max");
+  if (o.people.pause_min > o.people.pause_max)
+    throw cfg::ConfigError(source + ": [People] pause_min is above pause_max");
   if (o.people.distance_min > o.people.distance_max)
     throw cfg::ConfigError(source + ": [People] distance_min is above distance_max");
   if (o.people.group > 0 && o.trajectory.style != "walk")

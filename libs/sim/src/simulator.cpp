@@ -218,13 +218,16 @@ class RoomBuilder {
     box({2.6, -2.9, 0}, {3.4, -2.3, 0.9}, furniture(0.12));  // a box near the camera side
   }
 
-  /// An office like the Bonn recordings': bare white walls and ceiling, a pale speckled
+  /// An office like the Bonn recordings': bare white walls and ceiling, a pale speckled (or plain)
   /// floor, a cable duct with sockets at 1 m, texture only on furniture below ~1.1 m
   /// (tables, chairs, cabinets, boxes) and on one small marker.
-  void office(std::array<Material, 6>& faces, double back) {
+  void office(std::array<Material, 6>& faces, double back, bool plain_floor) {
     for (int f = 0; f < 6; ++f)
       faces[static_cast<size_t>(f)] = detail::randomMaterial(rng_, Pattern::Paint, 1.0, 0.1, 0.15, 0.05, 0.93, 0);
-    faces[4] = detail::randomMaterial(rng_, Pattern::Speckle, 0.012, 0.55, 0.62, 0.12, 0.8, 0);
+    // A speckled floor offers near, well-measured corners; the Bonn floor is plain and its
+    // static texture is the furniture (doc/sim.md).
+    faces[4] = detail::randomMaterial(rng_, plain_floor ? Pattern::Paint : Pattern::Speckle, plain_floor ? 1.0 : 0.012,
+                                      0.55, 0.62, 0.12, 0.8, 0);
     tables(0.3, back - 0.95, back - 0.85);  // 3.5 m from the camera at rest
     const Material duct = detail::randomMaterial(rng_, Pattern::Paint, 1.0, 0.1, 0.15, 0.03, 0.88, 0);
     box({-3.97, back - 0.06, 0.95}, {3.97, back, 1.07}, duct);
@@ -288,7 +291,7 @@ Simulator::Simulator(const SimOptions& options) : options_(options), scene_(std:
   scene_->statics.push_back(room);
   scene_->walk_far = office ? kOfficeBack - 1.5 : 1.5;
   RoomBuilder builder(scene_->statics, rng);
-  if (office) builder.office(scene_->room_faces, kOfficeBack);
+  if (office) builder.office(scene_->room_faces, kOfficeBack, options.room.floor == "plain");
   else builder.tiledRoom(scene_->room_faces);
   scene_->camera_base = Eigen::Vector3d(0, -2.4, options.trajectory.height);
   addWalkers(rng);
@@ -329,6 +332,10 @@ void Simulator::addWalkers(Rng& rng) {
     p.offset = rng.uniform(0, 12.8);
     p.height = rng.uniform(1.6, 1.9);
     dress(p, rng, plain);
+    if (po.pause_max > 0) {  // drawn last: scenarios without stops keep their people
+      p.pause = rng.uniform(po.pause_min, po.pause_max);
+      p.stop = rng.uniform(0.3, 0.7);  // near the middle of the path: in view
+    }
     scene_->people.push_back(p);
   }
   // The camera's walk (style walk) and the group in step with it: abreast or ahead of

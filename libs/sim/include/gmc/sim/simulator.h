@@ -88,6 +88,7 @@ struct PeopleOptions {
   int group = 0;                            ///< walkers in step with the camera (style walk)
   bool articulated = false;                 ///< knees and elbows bend (else straight limbs)
   std::string clothes = "checker";          ///< checker | plain (solid cloth, seams, folds)
+  double pause_min = 0, pause_max = 0;      ///< s a walker stands still on every pass (0 = never)
   template <class V>
   void visit(V& v) {
     v("walkers", walkers, 0, 20, "people walking across the view");
@@ -102,6 +103,8 @@ struct PeopleOptions {
     v("group", group, 0, 10, "walkers moving in step with the camera (needs [Trajectory] style = walk)");
     v("articulated", articulated, "knees and elbows bend while walking");
     v.choice("clothes", clothes, {"checker", "plain"}, "clothing texture");
+    v("pause_min", pause_min, 0.0, 60.0, "shortest stand on every pass (s); the stop is in view");
+    v("pause_max", pause_max, 0.0, 60.0, "longest stand on every pass (s), 0 = walkers never stop");
   }
 };
 
@@ -134,10 +137,13 @@ struct SensorOptions {
 /// [Room]
 struct RoomOptions {
   std::string style = "tiles";  ///< tiles (textured walls, posters) | office (white walls)
+  std::string floor = "speckle";  ///< office floor: speckle | plain
   template <class V>
   void visit(V& v) {
     v.choice("style", style, {"tiles", "office"},
              "tiles: textured walls; office: bare white walls, texture on furniture below 1.1 m");
+    v.choice("floor", floor, {"speckle", "plain"},
+             "office floor: speckle (flecks a near camera tracks) or plain (linoleum, as Bonn's)");
   }
 };
 
