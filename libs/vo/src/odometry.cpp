@@ -122,7 +122,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   t0 = Clock::now();
   updateMap(cur, stamp, out);
   if (out.new_keyframe && out.state == TrackingState::Tracking && config_.window.keyframes > 1) {
-    out.T_world_camera = orthonormalized(optimizeWindow(camera, stamp));
+    out.T_world_camera = orthonormalized(optimizeWindow(camera, stamp, out));
     velocity_ = T_world_last_.inverse() * out.T_world_camera;
   }
   out.map_landmarks = static_cast<int>(map_.numAlive());
@@ -406,7 +406,7 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
   }
 }
 
-Isometry RgbdOdometry::optimizeWindow(const PinholeCamera& camera, double stamp) {
+Isometry RgbdOdometry::optimizeWindow(const PinholeCamera& camera, double stamp, FrameTracking& out) {
   // Static landmarks seen from at least min_observations keyframes of the window.
   std::map<int, int> index_of;  // landmark id -> point index
   std::map<int, int> count;
@@ -438,6 +438,11 @@ Isometry RgbdOdometry::optimizeWindow(const PinholeCamera& camera, double stamp)
       *std::min_element(per_keyframe.begin() + 1, per_keyframe.end()) < min_per_keyframe)
     return window_keyframes_.back().T_world_kf;
   window_.optimize(problem, camera);
+  if (!plausibleWindowShift(window_keyframes_.back().T_world_kf, problem.poses.back().inverse(), out.position_sigma,
+                            config_.window)) {
+    out.window_discarded = true;
+    return window_keyframes_.back().T_world_kf;
+  }
   for (size_t k = 0; k < window_keyframes_.size(); ++k) window_keyframes_[k].T_world_kf = problem.poses[k].inverse();
   for (const auto& [id, j] : index_of) map_.setPosition(id, problem.points[static_cast<size_t>(j)]);
   return window_keyframes_.back().T_world_kf;

@@ -3,6 +3,7 @@
 #include <mrpt/math/geometry.h>
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 
 namespace gmc::vo {
@@ -106,6 +107,13 @@ NormalEquations buildNormalEquations(const WindowProblem& pb, const PinholeCamer
 }
 
 }  // namespace
+
+bool plausibleWindowShift(const Isometry& T_world_tracked, const Isometry& T_world_optimized, double tracked_sigma,
+                          const WindowOptions& options) {
+  if (options.max_shift_sigmas <= 0) return true;
+  const double shift = (T_world_optimized.translation() - T_world_tracked.translation()).norm();
+  return shift <= std::max(options.max_shift_sigmas * tracked_sigma, 0.01);
+}
 
 WindowResult WindowOptimizer::optimize(WindowProblem& pb, const PinholeCamera& camera) const {
   WindowResult result;

@@ -60,6 +60,7 @@ void PipelineReport::addFrame(const vo::FrameTracking& t, double pipeline_ms) {
   if (t.pose_undetermined) ++lost_pose_undetermined;
   if (t.background_untrusted) ++lost_background_untrusted;
   if (t.new_keyframe) ++keyframes;
+  if (t.window_discarded) ++windows_discarded;
   static_matches += static_cast<size_t>(t.num_static);
   dynamic_matches += static_cast<size_t>(t.num_dynamic);
   frontend_ms.push_back(t.times.frontend);
@@ -107,6 +108,7 @@ std::string PipelineReport::toJson() const {
             {"lost_background_untrusted", lost_background_untrusted},
             {"reanchored", reanchored},  {"dropped", dropped},
             {"skipped", skipped},        {"keyframes", keyframes},
+            {"windows_discarded", windows_discarded},
             {"map_inserts", map_inserts}, {"map_skipped", map_skipped},
             {"interrupted", interrupted}, {"wall_seconds", wall_seconds},
             {"peak_rss_mb", peak_rss_mb}, {"fps", wall_seconds > 0 ? frames / wall_seconds : 0.0},

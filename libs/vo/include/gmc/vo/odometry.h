@@ -88,6 +88,7 @@ struct FrameTracking {
   bool pose_undetermined = false;       ///< Lost with enough inliers: max_position_sigma
   bool background_untrusted = false;    ///< Lost: the static landmarks disagree with every hypothesis
   bool new_keyframe = false;
+  bool window_discarded = false;        ///< the windowed optimisation's result was implausible
   int map_landmarks = 0;                ///< live landmarks in the local map
   int landmarks_in_view = 0;            ///< landmarks projected into this frame
   int static_landmarks_matched = 0;     ///< matches on landmarks with static evidence ...
@@ -153,8 +154,9 @@ class RgbdOdometry {
                       const Isometry& T_world_pred, FrameTracking& out);
   void updateMap(const features::FeatureSet& cur, double stamp, FrameTracking& out);
   void addKeyframe(const features::FeatureSet& cur, double stamp, const FrameTracking& out);
-  /// Windowed optimisation over the last keyframes; returns the newest keyframe's pose.
-  Isometry optimizeWindow(const PinholeCamera& camera, double stamp);
+  /// Windowed optimisation over the last keyframes; returns the newest keyframe's pose
+  /// (unchanged, and out.window_discarded set, when the result is implausible).
+  Isometry optimizeWindow(const PinholeCamera& camera, double stamp, FrameTracking& out);
   void labelAgainstPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_cur,
                                  FrameTracking& out);
   Isometry predictPose() const;
