@@ -162,8 +162,8 @@ for config in "${configs[@]}"; do
       [ -f "$off" ] || off="$on"
       pixels="$(json "$on" dynamic_pixels_vs_masks.precision %.3f) | $(json "$on" dynamic_pixels_vs_masks.recall %.3f)"
       ghosts() { json "$1" map_quality.ghost_voxels; }
-      coverage() { json "$1" map_quality.static_coverage; }
-      t5="$t5\n| $seq | $(json "$on" dynamic_matches_vs_masks.precision) | $(json "$on" dynamic_matches_vs_masks.recall) | $pixels | $(ghosts "$on") / $(ghosts "$off") / $(ghosts "$nm/summary.json") / $(ghosts "$kp/summary.json") | $(coverage "$on") / $(coverage "$off") |"
+      coverage() { json "$1" map_quality.static_coverage %.3f; }
+      t5="$t5\n| $seq | $(json "$on" dynamic_matches_vs_masks.precision %.3f) | $(json "$on" dynamic_matches_vs_masks.recall %.3f) | $pixels | $(ghosts "$on") / $(ghosts "$off") / $(ghosts "$nm/summary.json") / $(ghosts "$kp/summary.json") | $(coverage "$on") / $(coverage "$off") |"
     fi
     # Overlay picture ([seq] overlay_picture = PNG, overlay_frame = N): keypoints and mask
     # of frame N, with the ground-truth outline on simulated input.
