@@ -12,7 +12,6 @@ Prints a Markdown table, then the median and max with GMC.
       [--set Section.key=value ...]
 """
 import argparse
-import json
 import os
 import statistics
 import subprocess
@@ -20,7 +19,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from window_eval import standing_still_ate  # noqa: E402
+from window_eval import run_window  # noqa: E402
 
 
 def generate(args, seed):
@@ -29,24 +28,6 @@ def generate(args, seed):
         subprocess.run([os.path.join(args.bin, 'gmc-sim'), 'config/sim/%s.ini' % args.scenario, '--out', folder,
                         '--seed', str(seed), '--frames', str(args.frames)], check=True, stdout=subprocess.DEVNULL)
     return folder
-
-
-def run(args, folder, extra):
-    with tempfile.TemporaryDirectory() as out:
-        cmd = [os.path.join(args.bin, 'gmc-rgbd-mapping'), args.config, folder, '--out', out,
-               '--set', 'Output.map=false', '--set', 'Playback.progress=false']
-        for s in args.set + extra:
-            cmd += ['--set', s]
-        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        est, gt, js = os.path.join(out, 'trajectory_tum.txt'), os.path.join(folder, 'groundtruth.txt'), \
-            os.path.join(out, 'eval.json')
-        subprocess.run([os.path.join(args.bin, 'gmc-eval'), '--gt', gt, '--est', est, '--json', js],
-                       check=True, stdout=subprocess.DEVNULL)
-        with open(js) as f:
-            ate = json.load(f)['ate']['rmse']
-        with open(os.path.join(out, 'summary.json')) as f:
-            lost = json.load(f).get('lost', 0)
-        return ate, lost, standing_still_ate(est, gt)
 
 
 def main():
@@ -64,8 +45,12 @@ def main():
     with_gmc = []
     for seed in args.seeds:
         folder = generate(args, seed)
-        ate, lost, still = run(args, folder, [])
-        off, _, _ = run(args, folder, ['GMC.enabled=false'])
+        with tempfile.TemporaryDirectory() as tmp:  # first frame 0, count 0: the whole sequence
+            ate, still, summary = run_window(args, folder, 0, 0, tmp)
+        lost = summary.get('lost', 0)
+        off_args = argparse.Namespace(**{**vars(args), 'set': args.set + ['GMC.enabled=false']})
+        with tempfile.TemporaryDirectory() as tmp:
+            off, _, _ = run_window(off_args, folder, 0, 0, tmp)
         with_gmc.append(ate)
         print('| %s | %d | %.4f | %d | %.4f | %.4f |' % (args.scenario, seed, ate, lost, off, still))
         sys.stdout.flush()

@@ -62,13 +62,14 @@ PathState pathState(const Eigen::Vector2d& from, const Eigen::Vector2d& to, doub
     return s;
   }
   // A stop inserts `pause` seconds at the stop point of every pass (each way), the gait phase held meanwhile.
-  const double leg = L / std::max(speed, 1e-9) + pause;
-  const double clock = offset / std::max(speed, 1e-9) + time;
+  const double v = std::max(speed, 1e-9);
+  const double leg = L / v + pause;
+  const double clock = offset / v + time;
   const double cycles = std::floor(clock / (2 * leg));
   double in_cycle = clock - cycles * 2 * leg;
   const bool outward = in_cycle < leg;
   if (!outward) in_cycle -= leg;
-  const double to_stop = (outward ? stop : 1 - stop) * L / std::max(speed, 1e-9);
+  const double to_stop = (outward ? stop : 1 - stop) * L / v;
   const double walking = in_cycle < to_stop ? in_cycle : in_cycle < to_stop + pause ? to_stop : in_cycle - pause;
   const double d = std::min(L, speed * walking);  // along this pass
   s.at = outward ? Eigen::Vector2d(from + span * (d / L)) : Eigen::Vector2d(to - span * (d / L));
