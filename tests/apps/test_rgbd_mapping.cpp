@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <sstream>
 
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
@@ -79,6 +80,42 @@ TEST(RgbdMappingApp, RepeatPlaysTheInputAgainWithLaterStampsAndLogsMemory) {
   const std::string json((std::istreambuf_iterator<char>(summary)), std::istreambuf_iterator<char>());
   EXPECT_NE(json.find("\"peak_rss_mb\": "), std::string::npos);
   EXPECT_EQ(json.find("\"peak_rss_mb\": 0,"), std::string::npos);
+}
+
+TEST(RgbdMappingApp, TrackingLogHasEveryFramesStatePoseAndLostReason) {
+  const auto root = gmc::testdata::scratchDir("mapping_tracking_log");
+  const auto seq = gmc::testdata::makeWallSequence(root + "/seq", 10);
+  // Frame 6 loses its depth: nothing to refine on, so it is lost and says why.
+  std::ifstream list(seq + "/depth.txt");
+  std::string line, depth_file;
+  for (int i = 0; i < 6 && std::getline(list, line);) depth_file = line.substr(line.find(' ') + 1), ++i;
+  cv::imwrite(seq + "/" + depth_file, cv::Mat(480, 640, CV_16UC1, cv::Scalar(0)));
+  const auto out = root + "/out";
+  ASSERT_EQ(runMapping({GMC_SOURCE_DIR "/config/default.ini", seq, "--out", out, "--set", "Output.tracking_log=true",
+                        "--set", "Output.map=false"}),
+            0);
+  const auto est = gmc::datasets::readTumTrajectory(out + "/trajectory_tum.txt");
+  std::ifstream csv(out + "/tracking.csv");
+  std::getline(csv, line);
+  EXPECT_EQ(line.rfind("frame,stamp,state,keyframe,window_shift,", 0), 0u) << line;
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> fields;
+    std::stringstream ss(line);
+    for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
+    rows.push_back(fields);
+  }
+  ASSERT_EQ(rows.size(), 10u);
+  ASSERT_EQ(est.size(), 10u);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    ASSERT_EQ(rows[i].size(), 24u) << i;
+    EXPECT_EQ(rows[i][0], std::to_string(i + 1));
+    EXPECT_NEAR(std::stod(rows[i][1]), est[i].stamp, 1e-6);
+    EXPECT_NEAR(std::stod(rows[i][16]), est[i].pose.translation().x(), 1e-5) << i;
+    const std::string expected = i == 0 ? "initialized" : i == 5 ? "lost" : "tracking";
+    EXPECT_EQ(rows[i][2], expected) << i;
+    EXPECT_EQ(rows[i][23] != "\"\"", i == 5) << i << ": " << rows[i][23];
+  }
 }
 
 TEST(RgbdMappingApp, TeddyStaysAccurateWithGmc) {

@@ -438,6 +438,8 @@ Isometry RgbdOdometry::optimizeWindow(const PinholeCamera& camera, double stamp,
       *std::min_element(per_keyframe.begin() + 1, per_keyframe.end()) < min_per_keyframe)
     return window_keyframes_.back().T_world_kf;
   window_.optimize(problem, camera);
+  out.window_shift =
+      (problem.poses.back().inverse().translation() - window_keyframes_.back().T_world_kf.translation()).norm();
   if (!plausibleWindowShift(window_keyframes_.back().T_world_kf, problem.poses.back().inverse(), out.position_sigma,
                             config_.window)) {
     out.window_discarded = true;

@@ -1,5 +1,6 @@
 #include "gmc/apps/mapping_observers.h"
 
+#include <Eigen/Geometry>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -208,6 +209,33 @@ void MemorySampler::onEnd(PipelineReport&, const mapping::StaticMapBuilder*) {
     csv << s.frame << "," << s.resident_mb << "," << s.map_nodes << "," << s.heap_mb << "\n";
   datasets::writeTextAtomic((fs::path(dir_) / "memory.csv").string(), csv.str());
   datasets::writeImageAtomic((fs::path(dir_) / "memory.png").string(), plotMemory(samples_));
+}
+
+TrackingLog::TrackingLog(std::string out_dir) : dir_(std::move(out_dir)) {
+  csv_ << "frame,stamp,state,keyframe,window_shift,window_discarded,background,matches,static,dynamic,inliers,"
+          "static_landmarks_matched,static_landmarks_agreeing,gmc_clusters,gmc_static_fallback,position_sigma,"
+          "x,y,z,qx,qy,qz,qw,lost_reason\n"
+       << std::fixed << std::setprecision(6);
+}
+
+void TrackingLog::onFrame(const FrameEvent& e) {
+  const auto& t = e.tracking;
+  const Eigen::Quaterniond q(t.T_world_camera.linear());
+  const auto& p = t.T_world_camera.translation();
+  std::string reason = t.lost_reason;
+  // One quoted field, also for readers that split lines at commas.
+  std::replace(reason.begin(), reason.end(), '"', '\'');
+  std::replace(reason.begin(), reason.end(), ',', ';');
+  csv_ << e.report.frames << "," << t.stamp << "," << vo::toString(t.state) << "," << t.new_keyframe << ","
+       << t.window_shift << "," << t.window_discarded << "," << t.background_source << "," << t.num_matches << ","
+       << t.num_static << "," << t.num_dynamic << "," << t.num_inliers << "," << t.static_landmarks_matched << ","
+       << t.static_landmarks_agreeing << "," << t.gmc.clusters.size() << "," << t.gmc.static_fallback << ","
+       << t.position_sigma << "," << p.x() << "," << p.y() << "," << p.z() << "," << q.x() << "," << q.y() << ","
+       << q.z() << "," << q.w() << ",\"" << reason << "\"\n";
+}
+
+void TrackingLog::onEnd(PipelineReport&, const mapping::StaticMapBuilder*) {
+  datasets::writeTextAtomic((fs::path(dir_) / "tracking.csv").string(), csv_.str());
 }
 
 }  // namespace gmc::apps

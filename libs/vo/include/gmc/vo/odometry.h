@@ -89,6 +89,8 @@ struct FrameTracking {
   bool background_untrusted = false;    ///< Lost: the static landmarks disagree with every hypothesis
   bool new_keyframe = false;
   bool window_discarded = false;        ///< the windowed optimisation's result was implausible
+  double window_shift = 0;              ///< m the windowed optimisation moved this keyframe
+                                        ///< (also when discarded; 0 when it did not run)
   int map_landmarks = 0;                ///< live landmarks in the local map
   int landmarks_in_view = 0;            ///< landmarks projected into this frame
   int static_landmarks_matched = 0;     ///< matches on landmarks with static evidence ...

@@ -110,4 +110,18 @@ class MemorySampler : public FrameObserver {
   std::vector<Sample> samples_;
 };
 
+/// tracking.csv: one row per frame with the odometry's state, why it is lost, the
+/// evidence behind the decision (matches, static landmarks, inliers, position sigma) and
+/// the pose, to see where and why a run goes wrong (next to gmc-eval's ate.per_pose).
+class TrackingLog : public FrameObserver {
+ public:
+  explicit TrackingLog(std::string out_dir);
+  void onFrame(const FrameEvent& e) override;
+  void onEnd(PipelineReport&, const mapping::StaticMapBuilder*) override;
+
+ private:
+  std::string dir_;
+  std::ostringstream csv_;
+};
+
 }  // namespace gmc::apps

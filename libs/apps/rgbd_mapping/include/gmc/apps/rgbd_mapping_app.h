@@ -73,6 +73,7 @@ struct OutputOptions {
   bool filtered_rawlog = false;    ///< write filtered.rawlog
   int overlay_every = 0;           ///< write overlays/<stamp>.png every N frames (0 = never)
   int memory_every = 0;            ///< memory.csv row (resident memory, map) every N frames
+  bool tracking_log = false;       ///< tracking.csv: every frame's state, evidence and pose
 
   template <class V>
   void visit(V& v) {
@@ -81,6 +82,8 @@ struct OutputOptions {
     v("overlay_every", overlay_every, 0, 1000000, "overlay PNG every N frames (0 = none)");
     v("memory_every", memory_every, 0, 1000000,
       "memory.csv row (frame, resident MB, map nodes) every N frames (0 = none)");
+    v("tracking_log", tracking_log,
+      "write tracking.csv: per frame state, lost reason, matches, static evidence, pose");
   }
 };
 
