@@ -2,12 +2,15 @@
 // their ground truth and the properties their INI comments promise.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <opencv2/imgproc.hpp>
 
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <utility>
 #include <vector>
 
 #include "sim_test_helpers.h"
@@ -164,6 +167,34 @@ TEST(Scenarios, StopAndGoWalkersStandStillInViewThenWalkOn) {
     EXPECT_LE(longest_stand[k], o.people.pause_max + 2 * dt) << "walker " << k;
     EXPECT_GE(fastest[k], o.people.speed_min - 1e-6) << "walker " << k;
   }
+}
+
+TEST(Scenarios, HoveringCameraMovesAsLittleAsTheBonnCamera) {
+  // Bonn's crowd windows: 2.1-2.7 mm and 0.42 deg per frame (median over the frames'
+  // ground truth, doc/sim.md); stop_and_go's camera moves 5.7 mm and 0.17 deg.
+  const auto median_steps = [](const Simulator& sim, double fps) {
+    std::vector<double> translation, rotation;
+    for (int i = 0; i + 1 < 300; ++i) {
+      const auto step = sim.cameraPoseAt(i / fps).inverse() * sim.cameraPoseAt((i + 1) / fps);
+      translation.push_back(step.translation().norm());
+      rotation.push_back(Eigen::AngleAxisd(step.linear()).angle() * 180 / M_PI);
+    }
+    return std::make_pair(percentile(translation, 50), percentile(rotation, 50));
+  };
+  const SimOptions hover = scenario("stop_and_go_hover");
+  const auto [t_hover, r_hover] = median_steps(Simulator(hover), hover.simulator.fps);
+  const SimOptions walking = scenario("stop_and_go");
+  const auto [t_walking, r_walking] = median_steps(Simulator(walking), walking.simulator.fps);
+  std::printf("  per frame: hovering %.1f mm %.2f deg, stop_and_go %.1f mm %.2f deg\n", t_hover * 1e3, r_hover,
+              t_walking * 1e3, r_walking);
+  EXPECT_GT(t_hover, 0.0018);
+  EXPECT_LT(t_hover, 0.0030);
+  EXPECT_GT(r_hover, 0.32);
+  EXPECT_LT(r_hover, 0.52);
+  EXPECT_GT(t_walking, 2 * t_hover);
+  // The same people as stop_and_go: only the camera differs.
+  EXPECT_EQ(hover.people.walkers, walking.people.walkers);
+  EXPECT_EQ(hover.people.pause_max, walking.people.pause_max);
 }
 
 TEST(Scenarios, PlainOfficeFloorOffersFewerCornersThanTheSpeckledOne) {

@@ -368,9 +368,24 @@ void RgbdOdometry::updateMap(const features::FeatureSet& cur, double stamp, Fram
     out.state = TrackingState::Reanchored;
     velocity_ = Isometry::Identity();
     lost_streak_ = 0;
+    if (config_.keyframes.reanchor_new_map) startNewMap(cur);
   }
   out.new_keyframe = true;
   addKeyframe(cur, stamp, out);
+}
+
+void RgbdOdometry::startNewMap(const features::FeatureSet& cur) {
+  // A frame that cannot seed a map keeps the old one: it may still be found again.
+  int with_depth = 0;
+  for (size_t i = 0; i < cur.size(); ++i) with_depth += cur.hasDepth(static_cast<int>(i)) ? 1 : 0;
+  if (with_depth < config_.odometry.min_matches) return;
+  map_.clear();
+  window_keyframes_.clear();
+  // This frame's matches point into the old map: none of them is an observation now.
+  track_.motion.clear();
+  track_.cur_index.clear();
+  track_.landmark.clear();
+  track_.matched.assign(cur.size(), 0);
 }
 
 void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, const FrameTracking& out) {

@@ -15,6 +15,10 @@ struct KeyframeOptions {
                                    ///< anchored at the predicted pose: late, because
                                    ///< landmarks made at a guessed pose in a crowd
                                    ///< teach the map the crowd (doc/odometry.md)
+  bool reanchor_new_map = true;    ///< the re-anchored keyframe starts a new local map
+                                   ///< (when it has features to seed one): the old map
+                                   ///< is off by the guess's error, and tracking on both
+                                   ///< slides between them (doc/odometry.md, fourth round)
 
   template <class V>
   void visit(V& v) {
@@ -24,6 +28,8 @@ struct KeyframeOptions {
     v("max_rotation", max_rotation, 0.0, 180.0, "deg from the last keyframe");
     v("reanchor_after_lost", reanchor_after_lost, 1, 100000,
       "lost frames before re-anchoring a keyframe at the predicted pose");
+    v("reanchor_new_map", reanchor_new_map,
+      "a re-anchored keyframe with features to seed it starts a new local map (false: joins the old one)");
   }
 };
 

@@ -156,6 +156,8 @@ class RgbdOdometry {
                       const Isometry& T_world_pred, FrameTracking& out);
   void updateMap(const features::FeatureSet& cur, double stamp, FrameTracking& out);
   void addKeyframe(const features::FeatureSet& cur, double stamp, const FrameTracking& out);
+  /// Re-anchoring: the old landmarks and window go, the keyframe seeds a new map.
+  void startNewMap(const features::FeatureSet& cur);
   /// Windowed optimisation over the last keyframes; returns the newest keyframe's pose
   /// (unchanged, and out.window_discarded set, when the result is implausible).
   Isometry optimizeWindow(const PinholeCamera& camera, double stamp, FrameTracking& out);
