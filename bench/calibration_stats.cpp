@@ -10,11 +10,17 @@
 // frame, which has nothing to match, is left out) of: matches, static and dynamic matches,
 // the share of matches GMC labels dynamic, the share of matched keypoints in the lower
 // half of the image, frames with fewer than 50 static matches; and, where the folder has
-// gmc-sim's masks/, the share of pixels on people and of matches on people.
+// gmc-sim's masks/, the share of pixels on people and of matches on people. Where the
+// folder has groundtruth.txt: how far the camera moves and turns per frame
+// (camera_step_mm, camera_rotation_deg), next to how far the estimate moves between two
+// tracked frames (tracked_step_mm): on a hovering camera the second is mostly noise.
+#include <Eigen/Geometry>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -25,6 +31,7 @@
 #include "gmc/datasets/atomic_file.h"
 #include "gmc/datasets/camera.h"
 #include "gmc/datasets/source.h"
+#include "gmc/datasets/tum.h"
 #include "gmc/vo/odometry.h"
 
 namespace {
@@ -112,6 +119,35 @@ void record(const gmc::vo::FrameTracking& t, const cv::Mat& mask, int height, Se
   series["matches_on_people"].push_back(matched > 0 ? static_cast<double>(on_people) / matched : 0.0);
 }
 
+/// The ground truth of a TUM folder (empty when it has none): positions and rotation
+/// angles only, which a rigid change of body frame (Bonn's marker) barely moves.
+std::vector<gmc::datasets::StampedPose> groundTruthOf(const std::string& input) {
+  const fs::path gt = fs::path(input) / "groundtruth.txt";
+  if (!fs::is_directory(input) || !fs::exists(gt)) return {};
+  return gmc::datasets::readTumTrajectory(gt.string());
+}
+
+/// The camera's and the estimate's motion from the previous frame to this one.
+struct MotionRecorder {
+  std::vector<gmc::datasets::StampedPose> truth;
+  std::optional<gmc::Isometry> previous_truth, previous_estimate;
+
+  void record(double stamp, const gmc::vo::FrameTracking& t, Series& series) {
+    const auto now = truth.empty() ? std::nullopt : gmc::datasets::interpolatePose(truth, stamp);
+    if (now && previous_truth) {
+      const gmc::Isometry step = previous_truth->inverse() * *now;
+      series["camera_step_mm"].push_back(1e3 * step.translation().norm());
+      series["camera_rotation_deg"].push_back(Eigen::AngleAxisd(step.linear()).angle() * 180.0 / M_PI);
+    }
+    previous_truth = now;
+    const bool tracked = t.state == gmc::vo::TrackingState::Tracking;
+    if (tracked && previous_estimate)
+      series["tracked_step_mm"].push_back(
+          1e3 * (t.T_world_camera.translation() - previous_estimate->translation()).norm());
+    previous_estimate = tracked ? std::optional<gmc::Isometry>(t.T_world_camera) : std::nullopt;
+  }
+};
+
 std::string report(const Args& args, const Series& series, int frames) {
   std::string json = "{\n  \"input\": \"" + args.input + "\",\n  \"frames\": " + std::to_string(frames) + ",\n";
   const auto& stat = series.at("static");
@@ -139,11 +175,13 @@ int run(const Args& args) {
   Series series;
   gmc::datasets::RgbdFrame frame;
   cv::Mat gray;
+  MotionRecorder motion{groundTruthOf(args.input), std::nullopt, std::nullopt};
   int frames = 0;
   while (source->next(frame)) {
     cv::cvtColor(frame.rgb, gray, cv::COLOR_BGR2GRAY);
     const auto t = odometry.process(gray, frame.depth, frame.depth_units, frame.camera, frame.stamp);
     if (frames++ > 0) record(t, maskOf(args.input, frame), frame.rgb.rows, series);
+    motion.record(frame.stamp, t, series);
   }
   if (series.empty()) throw std::runtime_error(args.input + ": fewer than two frames");
   const std::string json = report(args, series, frames);

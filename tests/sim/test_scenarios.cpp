@@ -170,7 +170,7 @@ TEST(Scenarios, StopAndGoWalkersStandStillInViewThenWalkOn) {
 }
 
 TEST(Scenarios, HoveringCameraMovesAsLittleAsTheBonnCamera) {
-  // Bonn's crowd windows: 2.1-2.7 mm and 0.42 deg per frame (median over the frames'
+  // Bonn's crowd windows: 2.1-2.7 mm and 0.37-0.42 deg per frame (median over the frames'
   // ground truth, doc/sim.md); stop_and_go's camera moves 5.7 mm and 0.17 deg.
   const auto median_steps = [](const Simulator& sim, double fps) {
     std::vector<double> translation, rotation;
