@@ -20,10 +20,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -130,7 +130,7 @@ std::vector<gmc::datasets::StampedPose> groundTruthOf(const std::string& input) 
 /// The camera's and the estimate's motion from the previous frame to this one.
 struct MotionRecorder {
   std::vector<gmc::datasets::StampedPose> truth;
-  std::optional<gmc::Isometry> previous_truth, previous_estimate;
+  std::optional<gmc::Isometry> previous_truth = std::nullopt, previous_estimate = std::nullopt;
 
   void record(double stamp, const gmc::vo::FrameTracking& t, Series& series) {
     const auto now = truth.empty() ? std::nullopt : gmc::datasets::interpolatePose(truth, stamp);
@@ -175,7 +175,7 @@ int run(const Args& args) {
   Series series;
   gmc::datasets::RgbdFrame frame;
   cv::Mat gray;
-  MotionRecorder motion{groundTruthOf(args.input), std::nullopt, std::nullopt};
+  MotionRecorder motion{groundTruthOf(args.input)};
   int frames = 0;
   while (source->next(frame)) {
     cv::cvtColor(frame.rgb, gray, cv::COLOR_BGR2GRAY);

@@ -453,10 +453,10 @@ Isometry RgbdOdometry::optimizeWindow(const PinholeCamera& camera, double stamp,
       *std::min_element(per_keyframe.begin() + 1, per_keyframe.end()) < min_per_keyframe)
     return window_keyframes_.back().T_world_kf;
   window_.optimize(problem, camera);
-  out.window_shift =
-      (problem.poses.back().inverse().translation() - window_keyframes_.back().T_world_kf.translation()).norm();
-  if (!plausibleWindowShift(window_keyframes_.back().T_world_kf, problem.poses.back().inverse(), out.position_sigma,
-                            config_.window)) {
+  const Isometry& T_world_tracked = window_keyframes_.back().T_world_kf;
+  const Isometry T_world_optimized = problem.poses.back().inverse();
+  out.window_shift = (T_world_optimized.translation() - T_world_tracked.translation()).norm();
+  if (!plausibleWindowShift(T_world_tracked, T_world_optimized, out.position_sigma, config_.window)) {
     out.window_discarded = true;
     return window_keyframes_.back().T_world_kf;
   }
