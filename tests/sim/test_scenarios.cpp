@@ -197,6 +197,61 @@ TEST(Scenarios, HoveringCameraMovesAsLittleAsTheBonnCamera) {
   EXPECT_EQ(hover.people.pause_max, walking.people.pause_max);
 }
 
+// Real people who stop are never still: they shift their weight, turn and gesture, a few
+// millimetres per frame, slow enough to pass a per-frame motion test as background (the
+// Bonn crowd's standing people do). With fidget the standing walker's silhouette changes
+// every frame, far less than while walking; without it the stand is frozen.
+TEST(Scenarios, FidgetingPeopleMoveSlowlyWhileTheyStand) {
+  const SimOptions shipped = scenario("stop_and_go_hover");
+  ASSERT_TRUE(shipped.people.fidget);
+  SimOptions o = small(shipped);
+  o.trajectory.style = "static";
+  o.people.walkers = 1;
+  o.sensor = SimOptions::exact().sensor;
+  const double dt = 1.0 / o.simulator.fps;
+  // The walker's first stand of more than 2.5 s, seen from the static camera.
+  const Simulator probe(o);
+  int first = -1, last = -1;
+  for (int i = 0, since = -1; i < 900 && last < 0; ++i) {
+    const bool still = (probe.peoplePositions((i + 1) * dt)[0] - probe.peoplePositions(i * dt)[0]).norm() < 1e-9;
+    if (still && since < 0) since = i;
+    if (!still && since >= 0) {
+      if ((i - since) * dt > 2.5) first = since, last = i;
+      since = -1;
+    }
+  }
+  ASSERT_GT(last, 0) << "no stand found";
+  // Mask change between consecutive frames, as a share of the person's pixels.
+  const auto change = [&](bool fidget, int from, int to) {
+    SimOptions p = o;
+    p.people.fidget = fidget;
+    p.simulator.frames = to + 2;
+    const Simulator sim(p);
+    double sum = 0;
+    int n = 0;
+    for (int i = from; i < to; ++i) {
+      const cv::Mat a = sim.renderFrame(i).mask, b = sim.renderFrame(i + 1).mask;
+      if (cv::countNonZero(a) < 50) continue;
+      cv::Mat x;
+      cv::bitwise_xor(a, b, x);
+      sum += cv::countNonZero(x) / static_cast<double>(cv::countNonZero(a));
+      ++n;
+    }
+    return n ? sum / n : -1.0;
+  };
+  const int mid_from = first + 35, mid_to = last - 35;  // past the second of easing in and out
+  ASSERT_GT(mid_to, mid_from + 5);
+  const double frozen = change(false, mid_from, mid_to), fidgeting = change(true, mid_from, mid_to);
+  const double walking = change(true, last + 5, last + 25);
+  std::printf("  stand of %.1f s: silhouette change per frame frozen %.4f, fidgeting %.4f, walking %.4f\n",
+              (last - first) * dt, frozen, fidgeting, walking);
+  ASSERT_GE(frozen, 0.0);
+  ASSERT_GE(walking, 0.0) << "the walker leaves the view";
+  EXPECT_EQ(frozen, 0.0);
+  EXPECT_GT(fidgeting, 0.005);
+  EXPECT_LT(fidgeting, 0.5 * walking);
+}
+
 TEST(Scenarios, PlainOfficeFloorOffersFewerCornersThanTheSpeckledOne) {
   SimOptions o = emptyOffice();
   o.trajectory.tilt = 12;

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <set>
 #include <tuple>
 
 #include "gmc/config/ini.h"
@@ -160,6 +161,33 @@ TEST(Simulator, SensorEffectsCanBeSwitchedOff) {
   for (int v = 0; v < g.mask.rows; ++v)
     for (int u = 0; u < g.mask.cols; ++u) dropped += g.frame.depth.at<std::uint16_t>(v, u) == 0;
   EXPECT_GT(dropped, 0);  // edges and grazing angles lose depth
+}
+
+// Quantisation rounds 1/z to multiples of disparity_step: depth comes in steps of
+// z^2 * step (Bonn's Xtion: 0.003, 12 mm at 2 m, measured on its depth PNGs).
+TEST(Simulator, DepthComesInStepsOfTheDisparityStep) {
+  for (double step : {0.0015, 0.003}) {
+    SimOptions o = small(SimOptions::exact());
+    o.sensor.quantize = true;
+    o.sensor.disparity_step = step;
+    const auto f = Simulator(o).renderFrame(5);
+    std::set<int> levels;  // raw depth values beyond 2 m (millimetre rounding stays below 7 % of a step)
+    for (int v = 0; v < f.frame.depth.rows; ++v)
+      for (int u = 0; u < f.frame.depth.cols; ++u) {
+        const int raw = f.frame.depth.at<std::uint16_t>(v, u);
+        if (raw >= 10000) levels.insert(raw);
+      }
+    ASSERT_GE(levels.size(), 3u) << "step " << step;
+    std::vector<double> gaps;
+    for (auto it = std::next(levels.begin()); it != levels.end(); ++it) {
+      const double z = *it / 5000.0;
+      gaps.push_back((*it - *std::prev(it)) / 5000.0 / (z * z));
+    }
+    const double smallest = *std::min_element(gaps.begin(), gaps.end());
+    std::printf("  disparity step %.4f: %zu depth levels beyond 2 m, smallest gap / z^2 %.4f\n", step,
+                levels.size(), smallest);
+    EXPECT_NEAR(smallest, step, 0.15 * step);
+  }
 }
 
 /// Static surface samples on a 3 cm voxel hash, for nearest-sample queries.

@@ -144,7 +144,7 @@ FeatureSet Frontend::extract(const cv::Mat& gray, const cv::Mat& depth, double d
   cv::goodFeaturesToTrack(gray, corners, options_.max_features, options_.quality_level,
                           options_.min_distance, mask, options_.block_size, false);
   if (options_.subpixel && !corners.empty())
-    cv::cornerSubPix(gray, corners, cv::Size(3, 3), cv::Size(-1, -1),
+    cv::cornerSubPix(gray, corners, cv::Size(options_.subpixel_window, options_.subpixel_window), cv::Size(-1, -1),
                      cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 10, 0.01));
   set.keypoints.reserve(corners.size());
   for (const auto& c : corners) set.keypoints.emplace_back(c, 31.f, 0.f);

@@ -1,5 +1,8 @@
 #include "people.h"
 
+#include <Eigen/Geometry>
+
+#include <algorithm>
 #include <cmath>
 
 namespace gmc::sim::detail {
@@ -71,6 +74,10 @@ PathState pathState(const Eigen::Vector2d& from, const Eigen::Vector2d& to, doub
   if (!outward) in_cycle -= leg;
   const double to_stop = (outward ? stop : 1 - stop) * L / v;
   const double walking = in_cycle < to_stop ? in_cycle : in_cycle < to_stop + pause ? to_stop : in_cycle - pause;
+  if (in_cycle >= to_stop && in_cycle < to_stop + pause) {
+    s.standing = in_cycle - to_stop;
+    s.stand_left = to_stop + pause - in_cycle;
+  }
   const double d = std::min(L, speed * walking);  // along this pass
   s.at = outward ? Eigen::Vector2d(from + span * (d / L)) : Eigen::Vector2d(to - span * (d / L));
   s.heading = span.normalized() * (outward ? 1.0 : -1.0);
@@ -88,20 +95,36 @@ PathState personState(const Person& person, const PathState& camera_walk, double
 }
 
 void posePerson(const Person& person, const PathState& state, double time, bool articulated,
-                std::vector<Primitive>& out) {
+                std::vector<Primitive>& out, bool fidget) {
   if (person.sitting) return poseSeated(person, time, out);
   const double k = person.height / 1.75;
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d feet(state.at.x(), state.at.y(), 0), fwd(state.heading.x(), state.heading.y(), 0),
-      side(-state.heading.y(), state.heading.x(), 0);
+  Eigen::Vector2d heading = state.heading;
+  Eigen::Vector3d lean = Eigen::Vector3d::Zero();
+  double gesture = 0;
+  if (fidget && state.standing >= 0) {
+    // Eased in and out over a second: the stand starts and ends at walking pose. The
+    // turn (+-25 deg, 5 s) moves the shoulders up to 4 mm per frame, the weight shift
+    // (+-5 cm, 3 s) the torso 3 mm, the gesturing forearm 1-2 cm.
+    const double ease = std::min({1.0, state.standing, state.stand_left});
+    const double phase = person.offset * 7.3;  // each person fidgets in its own rhythm
+    const double yaw = ease * 0.44 * std::sin(2 * M_PI * time / 5.0 + phase);
+    heading = Eigen::Rotation2Dd(yaw) * heading;
+    const Eigen::Vector2d across(-heading.y(), heading.x());
+    const double shift = ease * 0.05 * std::sin(2 * M_PI * time / 3.1 + 1.7 * phase);
+    lean = Eigen::Vector3d(across.x(), across.y(), 0) * shift;
+    gesture = ease * (0.5 + 0.5 * std::sin(2 * M_PI * time / 1.9 + phase));
+  }
+  const Eigen::Vector3d feet(state.at.x(), state.at.y(), 0), fwd(heading.x(), heading.y(), 0),
+      side(-heading.y(), heading.x(), 0);
   const double phase = 2 * M_PI * state.walked / kStride;
   const double swing = 0.45 * std::sin(phase);
-  addCapsule(out, feet + 1.0 * k * up, feet + 1.42 * k * up, 0.19, person.top);
-  addHead(out, feet + 1.63 * k * up, person.skin);
+  addCapsule(out, feet + 1.0 * k * up + lean, feet + 1.42 * k * up + lean, 0.19, person.top);
+  addHead(out, feet + 1.63 * k * up + 1.1 * lean, person.skin);
   for (int s : {-1, 1}) {
     const double a = s * swing;
-    const Eigen::Vector3d hip = feet + 0.92 * k * up + 0.1 * s * side;
-    const Eigen::Vector3d shoulder = feet + 1.42 * k * up + 0.26 * s * side;
+    const Eigen::Vector3d hip = feet + 0.92 * k * up + 0.1 * s * side + 0.8 * lean;
+    const Eigen::Vector3d shoulder = feet + 1.42 * k * up + 0.26 * s * side + lean;
     if (!articulated) {
       addCapsule(out, hip, hip + 0.85 * k * limb(fwd, a), 0.08, person.bottom);
       addCapsule(out, shoulder, shoulder + 0.6 * k * limb(fwd, -a), 0.05, person.top);
@@ -115,7 +138,8 @@ void posePerson(const Person& person, const PathState& state, double time, bool 
     addCapsule(out, knee, knee + 0.43 * k * limb(fwd, a - knee_flex), 0.065, person.bottom);
     const Eigen::Vector3d elbow = shoulder + 0.3 * k * limb(fwd, -a);
     addCapsule(out, shoulder, elbow, 0.055, person.top);
-    addCapsule(out, elbow, elbow + 0.28 * k * limb(fwd, -a + 0.6 + 0.35 * std::sin(-s * phase)), 0.045,
+    const double lift = s > 0 ? 1.2 * gesture : 0.0;  // one hand talks while standing
+    addCapsule(out, elbow, elbow + 0.28 * k * limb(fwd, -a + 0.6 + lift + 0.35 * std::sin(-s * phase)), 0.045,
                person.skin);
   }
 }

@@ -14,6 +14,8 @@ struct PathState {
   Eigen::Vector2d at = Eigen::Vector2d::Zero();       ///< feet (world x, y)
   Eigen::Vector2d heading = Eigen::Vector2d::UnitX(); ///< unit walking direction
   double walked = 0;                                  ///< distance walked so far (m): the gait phase
+  double standing = -1;                               ///< s into a stand (-1: walking) ...
+  double stand_left = 0;                              ///< ... and s until it ends
 };
 
 /// Back and forth between `from` and `to` at `speed`, starting `offset` metres along;
@@ -38,7 +40,9 @@ PathState personState(const Person& person, const PathState& camera_walk, double
 
 /// Appends the body parts of a person at `state` (seated people ignore it and use `time`).
 /// articulated: legs bend at the knee and arms at the elbow, else each limb is one capsule.
+/// fidget: a standing person sways, turns and gestures (centimetres per frame, as real
+/// people who stop: slow enough to pass a per-frame motion test as background).
 void posePerson(const Person& person, const PathState& state, double time, bool articulated,
-                std::vector<Primitive>& out);
+                std::vector<Primitive>& out, bool fidget = false);
 
 }  // namespace gmc::sim::detail

@@ -506,7 +506,8 @@ Simulator::View Simulator::renderView(double time, const Isometry& T_wc) const {
   const size_t num_static = prims.size();
   const PathState walk = cameraWalk(time);
   for (const auto& person : scene_->people)
-    detail::posePerson(person, detail::personState(person, walk, time), time, options_.people.articulated, prims);
+    detail::posePerson(person, detail::personState(person, walk, time), time, options_.people.articulated, prims,
+                       options_.people.fidget);
   std::vector<Rect> rects(prims.size());
   for (size_t k = 0; k < prims.size(); ++k) rects[k] = screenRect(prims[k], T_wc, co);
 
@@ -632,7 +633,6 @@ cv::Mat Simulator::sensorDepth(const View& view, int index) const {
   cv::Mat depth = cv::Mat::zeros(H, W, CV_16UC1);
   const cv::Mat shadow = projectorShadows(view.depth);
   const double cos_limit = std::cos(so.grazing_angle * M_PI / 180);
-  const double disparity_step = 0.0015;  // 1/m: ~6 mm steps at 2 m, like a Kinect's 1/8 px
   const std::uint64_t seed = static_cast<std::uint64_t>(options_.simulator.seed);
   auto edge = [&](int u, int v, double z) {
     for (auto [du, dv] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
@@ -654,7 +654,7 @@ cv::Mat Simulator::sensorDepth(const View& view, int index) const {
           const std::uint64_t h = hash(seed, static_cast<std::uint64_t>(index), static_cast<std::uint64_t>(v * W + u), 2);
           z += (0.0012 + 0.0019 * (z - 0.4) * (z - 0.4)) * gaussian(h);
         }
-        if (so.quantize) z = 1.0 / (std::round((1.0 / z) / disparity_step) * disparity_step);
+        if (so.quantize) z = 1.0 / (std::round((1.0 / z) / so.disparity_step) * so.disparity_step);
         depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(std::clamp(std::lround(z * 5000.0), 0L, 65535L));
       }
   });

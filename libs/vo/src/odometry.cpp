@@ -110,6 +110,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   const RefinementResult refined =
       refineOnBackground(T_world_pred * choice_.T_ref_cur, T_world_pred, stamp - last_stamp_, camera, out);
   out.times.refine += msSince(t0);
+  const bool after_lost_frames = lost_streak_ > 0;
   decideTracking(refined, orthonormalized(refined.T_cur_ref).inverse(), choice_.trustworthy, T_world_pred, out);
 
   // 5. Labels for the mask from the previous frame; dynamic memory.
@@ -123,7 +124,8 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   updateMap(cur, stamp, out);
   if (out.new_keyframe && out.state == TrackingState::Tracking && config_.window.keyframes > 1) {
     out.T_world_camera = orthonormalized(optimizeWindow(camera, stamp, out));
-    velocity_ = T_world_last_.inverse() * out.T_world_camera;
+    // As in decideTracking: the step from a predicted pose is no velocity.
+    if (!after_lost_frames) velocity_ = T_world_last_.inverse() * out.T_world_camera;
   }
   out.map_landmarks = static_cast<int>(map_.numAlive());
   out.times.window = msSince(t0);

@@ -21,6 +21,7 @@ struct FrontendOptions {
   double min_distance = 10.0;     ///< px between corners (the paper's setting)
   int block_size = 3;             ///< GFTT covariance window
   bool subpixel = true;           ///< refine corners to sub-pixel (cv::cornerSubPix)
+  int subpixel_window = 3;        ///< px half-size of cornerSubPix's window (3: 7x7)
   int border = 20;                ///< px kept free at the image border (descriptor patch)
   double min_depth = 0.2;         ///< m; closer depth readings are ignored
   double max_depth = 6.0;         ///< m; farther depth readings are ignored
@@ -37,6 +38,7 @@ struct FrontendOptions {
     v("min_distance", min_distance, 0.0, 200.0, "minimum px between corners");
     v("block_size", block_size, 3, 15, "GFTT covariance window (px)");
     v("subpixel", subpixel, "refine corners to sub-pixel accuracy");
+    v("subpixel_window", subpixel_window, 1, 10, "px half-size of the sub-pixel refinement window");
     v("border", border, 16, 200, "px kept free at the image border");
     v("min_depth", min_depth, 0.0, 100.0, "ignore depth below (m)");
     v("max_depth", max_depth, 0.01, 100.0, "ignore depth beyond (m)");

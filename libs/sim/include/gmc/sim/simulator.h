@@ -89,6 +89,7 @@ struct PeopleOptions {
   bool articulated = false;                 ///< knees and elbows bend (else straight limbs)
   std::string clothes = "checker";          ///< checker | plain (solid cloth, seams, folds)
   double pause_min = 0, pause_max = 0;      ///< s a walker stands still on every pass (0 = never)
+  bool fidget = false;                      ///< standing walkers sway, turn and gesture
   template <class V>
   void visit(V& v) {
     v("walkers", walkers, 0, 20, "people walking across the view");
@@ -105,6 +106,7 @@ struct PeopleOptions {
     v.choice("clothes", clothes, {"checker", "plain"}, "clothing texture");
     v("pause_min", pause_min, 0.0, 60.0, "shortest stand on every pass (s); the stop is in view");
     v("pause_max", pause_max, 0.0, 60.0, "longest stand on every pass (s), 0 = walkers never stop");
+    v("fidget", fidget, "standing people sway, turn and gesture instead of freezing");
   }
 };
 
@@ -112,6 +114,7 @@ struct PeopleOptions {
 struct SensorOptions {
   bool depth_noise = true;        ///< sigma(z) = 1.2 mm + 1.9 mm (z - 0.4)^2
   bool quantize = true;           ///< Kinect disparity steps (1/8 px)
+  double disparity_step = 0.0015; ///< 1/m, step of the quantised 1/z: depth steps of z^2 times this
   double max_range = 6.0;         ///< m, no depth beyond
   double grazing_angle = 80.0;    ///< deg, no depth above this incidence angle
   bool edge_dropout = true;       ///< no depth next to depth discontinuities
@@ -123,6 +126,8 @@ struct SensorOptions {
   void visit(V& v) {
     v("depth_noise", depth_noise, "Kinect-like depth noise");
     v("quantize", quantize, "disparity quantisation");
+    v("disparity_step", disparity_step, 0.0001, 0.01,
+      "1/m, quantisation step of 1/z (Kinect 0.0015: 6 mm at 2 m; Bonn's Xtion 0.003: 12 mm at 2 m)");
     v("max_range", max_range, 0.5, 100.0, "no depth beyond (m)");
     v("grazing_angle", grazing_angle, 0.0, 90.0, "no depth above this incidence (deg)");
     v("edge_dropout", edge_dropout, "no depth at depth discontinuities");
