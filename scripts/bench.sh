@@ -51,6 +51,25 @@ eval_metrics() {
   "$bin/gmc-eval" --gt "$1" --est "$2" --json "$j" "${plot[@]}" >/dev/null
   data eval "$j"
 }
+# runtime_cells PREFIX: " | median [min-max] (p95)" per stage over the runs PREFIX-1..PREFIX-$repeats
+runtime_cells() {
+  local cells="" st r meds p95s
+  for st in frontend guess gmc refinement odometry dynamic_mask mapping total; do
+    meds=() p95s=()
+    for r in $(seq 1 "$repeats"); do
+      meds+=("$(stage_median "$1-$r/summary.json" "$st")")
+      p95s+=("$(stage_p95 "$1-$r/summary.json" "$st")")
+    done
+    cells="$cells | $(spread '%.2f' "${meds[@]}") ($(printf '%.2f' "$(median_of "${p95s[@]}")"))"
+  done
+  echo "$cells"
+}
+# runs_fps PREFIX: frames per second over the same runs, "median [min-max]"
+runs_fps() {
+  local r fps=()
+  for r in $(seq 1 "$repeats"); do fps+=("$(json "$1-$r/summary.json" fps)"); done
+  spread '%.1f' "${fps[@]}"
+}
 method_name() {
   case "$1" in
     gmc) echo "GMC odometry" ;; nogmc) echo "without GMC" ;; cv_rgbd) echo "OpenCV RgbdOdometry" ;;
@@ -133,35 +152,14 @@ for config in "${configs[@]}"; do
         m = (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2; print m, v[1], v[NR] }')"
       echo "$seq,$m,$frames,$ar,$am,$tr,$tm,$rr,$rm,$tmed,$tmin,$tmax" >> "$csv"
       if [ "$m" = gmc ] || [ "$m" = nogmc ]; then
-        cells=""
-        for st in frontend guess gmc refinement odometry dynamic_mask mapping total; do
-          meds=() p95s=()
-          for r in $(seq 1 "$repeats"); do
-            meds+=("$(stage_median "$dir/run/$seq-$m-$r/summary.json" "$st")")
-            p95s+=("$(stage_p95 "$dir/run/$seq-$m-$r/summary.json" "$st")")
-          done
-          cells="$cells | $(spread '%.2f' "${meds[@]}") ($(printf '%.2f' "$(median_of "${p95s[@]}")"))"
-        done
-        fps=()
-        for r in $(seq 1 "$repeats"); do fps+=("$(json "$dir/run/$seq-$m-$r/summary.json" fps)"); done
-        t4="$t4\n| $seq | $(method_name "$m")$cells | $(spread '%.1f' "${fps[@]}") |"
+        t4="$t4\n| $seq | $(method_name "$m")$(runtime_cells "$dir/run/$seq-$m") | $(runs_fps "$dir/run/$seq-$m") |"
         # The odometry alone, as the OpenCV baselines run: no map thread sharing the cores.
         if [ "$m" = gmc ]; then
-          cells="" fps=()
           for r in $(seq 1 "$repeats"); do
             "$bin/gmc-rgbd-mapping" "$cfg" "$path" --out "$dir/run/$seq-$m-nomap-$r" --set Playback.progress=false \
               --set Output.map=false "${sim_extra[@]}" >"$dir/run/$seq-$m-nomap-$r.log" 2>&1
-            fps+=("$(json "$dir/run/$seq-$m-nomap-$r/summary.json" fps)")
           done
-          for st in frontend guess gmc refinement odometry dynamic_mask mapping total; do
-            meds=() p95s=()
-            for r in $(seq 1 "$repeats"); do
-              meds+=("$(stage_median "$dir/run/$seq-$m-nomap-$r/summary.json" "$st")")
-              p95s+=("$(stage_p95 "$dir/run/$seq-$m-nomap-$r/summary.json" "$st")")
-            done
-            cells="$cells | $(spread '%.2f' "${meds[@]}") ($(printf '%.2f' "$(median_of "${p95s[@]}")"))"
-          done
-          t4="$t4\n| $seq | $(method_name "$m"), map off$cells | $(spread '%.1f' "${fps[@]}") |"
+          t4="$t4\n| $seq | $(method_name "$m"), map off$(runtime_cells "$dir/run/$seq-$m-nomap") | $(runs_fps "$dir/run/$seq-$m-nomap") |"
         fi
       else
         t4="$t4\n| $seq | $(method_name "$m") | | | | | $(spread '%.2f' "${times[@]}") | | | | |"
