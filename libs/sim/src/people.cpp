@@ -104,7 +104,7 @@ void posePerson(const Person& person, const PathState& state, double time, bool 
   double gesture = 0;
   if (fidget && state.standing >= 0) {
     // Eased in and out over a second: the stand starts and ends at walking pose. The
-    // turn (+-25 deg, 5 s) moves the shoulders up to 4 mm per frame, the weight shift
+    // turn (+-25 deg, 5 s) moves the shoulders up to 5 mm per frame, the weight shift
     // (+-5 cm, 3 s) the torso 3 mm, the gesturing forearm 1-2 cm.
     const double ease = std::min({1.0, state.standing, state.stand_left});
     const double phase = person.offset * 7.3;  // each person fidgets in its own rhythm
