@@ -122,11 +122,12 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   // 6. Static evidence, keyframes, windowed optimisation.
   t0 = Clock::now();
   updateMap(cur, stamp, out);
-  if (out.new_keyframe && out.state == TrackingState::Tracking && config_.window.keyframes > 1) {
+  if (out.new_keyframe && out.state == TrackingState::Tracking && config_.window.keyframes > 1)
     out.T_world_camera = orthonormalized(optimizeWindow(camera, stamp, out));
-    // As in decideTracking: the step from a predicted pose is no velocity.
-    if (!after_lost_frames) velocity_ = T_world_last_.inverse() * out.T_world_camera;
-  }
+  // The velocity of a tracked frame, once its pose is final. After lost frames the last
+  // pose was a prediction: the step from it corrects the prediction, it is no velocity.
+  if (out.state == TrackingState::Tracking && !after_lost_frames)
+    velocity_ = T_world_last_.inverse() * out.T_world_camera;
   out.map_landmarks = static_cast<int>(map_.numAlive());
   out.times.window = msSince(t0);
 
@@ -296,9 +297,6 @@ void RgbdOdometry::decideTracking(const RefinementResult& refined, Isometry T_wo
   const bool determined = o.max_position_sigma <= 0 || out.position_sigma <= o.max_position_sigma;
   if (enough && determined && trustworthy) {
     out.state = TrackingState::Tracking;
-    // After lost frames the last pose was a prediction: the step from it is the
-    // correction of the prediction's error, not the camera's velocity.
-    if (lost_streak_ == 0) velocity_ = T_world_last_.inverse() * T_world_cur;
     lost_streak_ = 0;
     out.T_world_camera = T_world_cur;
     return;
