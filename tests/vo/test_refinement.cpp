@@ -61,6 +61,26 @@ TEST(Refinement, RobustToGrossOutliers) {
   EXPECT_LT(Eigen::AngleAxisd(r.T_cur_ref.linear() * truth.linear().transpose()).angle(), 2e-3);
 }
 
+TEST(Refinement, ReportsTheMedianErrorsOfItsObservations) {
+  // 2 px per axis: the reprojection error's median is that of a Rayleigh distribution,
+  // 2 * 1.177 px; depth noise of 1 cm: the absolute error's median is 0.674 cm.
+  gmc::PinholeCamera cam;
+  std::mt19937 rng(9);
+  const Isometry truth = motion(0.02, 0.01, -0.03, 0.01, 0.0, -0.02);
+  auto obs = observe(truth, cam, 2000, rng);
+  const auto exact = gmc::vo::refinePose(obs, Isometry::Identity(), cam, {});
+  EXPECT_LT(exact.median_pixel_error, 1e-6);
+  EXPECT_LT(exact.median_depth_error, 1e-6);
+  std::normal_distribution<double> px(0, 2.0), dz(0, 0.01);
+  for (auto& o : obs) {
+    o.pixel += Eigen::Vector2d(px(rng), px(rng));
+    o.depth += dz(rng);
+  }
+  const auto noisy = gmc::vo::refinePose(obs, Isometry::Identity(), cam, {});
+  EXPECT_NEAR(noisy.median_pixel_error, 2 * 1.177, 0.15);
+  EXPECT_NEAR(noisy.median_depth_error, 0.00674, 0.0008);
+}
+
 TEST(Refinement, TooFewObservationsKeepTheInitialPose) {
   const Isometry init = motion(0.1, 0, 0, 0, 0, 0);
   const auto r = gmc::vo::refinePose({}, init, gmc::PinholeCamera{}, {});

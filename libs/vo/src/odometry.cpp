@@ -291,6 +291,8 @@ void RgbdOdometry::decideTracking(const RefinementResult& refined, Isometry T_wo
   const auto& o = config_.odometry;
   out.num_inliers = refined.inliers;
   out.position_sigma = positionStdDev(refined);
+  out.pixel_error_median = refined.median_pixel_error;
+  out.depth_error_median = refined.median_depth_error;
   // Enough inliers can still leave the pose undetermined: points on a narrow strip of one
   // wall let translation and rotation trade off (doc/robustness.md).
   const bool enough = refined.inliers >= o.min_static_inliers;

@@ -16,6 +16,27 @@ inline double huberWeight(double whitened, double k) {
   return a <= k ? 1.0 : k / a;
 }
 
+double median(std::vector<double>& values) {
+  if (values.empty()) return 0;
+  auto mid = values.begin() + static_cast<long>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+/// The median reprojection (px) and depth (m) errors of the observations at T_cur_ref.
+void medianErrors(const std::vector<PointObservation>& observations, const PinholeCamera& camera,
+                  RefinementResult& result) {
+  std::vector<double> pixel, depth;
+  for (const auto& ob : observations) {
+    const Eigen::Vector3d p = result.T_cur_ref * ob.point_ref;
+    if (p.z() <= 1e-3) continue;
+    pixel.push_back((camera.project(p) - ob.pixel).norm());
+    if (ob.depth > 0) depth.push_back(std::abs(p.z() - ob.depth));
+  }
+  result.median_pixel_error = median(pixel);
+  result.median_depth_error = median(depth);
+}
+
 }  // namespace
 
 /// exp map of a twist (rho, phi) to an isometry (left perturbation): MRPT's SO(3)
@@ -122,6 +143,7 @@ RefinementResult refinePose(const std::vector<PointObservation>& observations,
       break;
     }
   }
+  medianErrors(observations, camera, result);
   return result;
 }
 

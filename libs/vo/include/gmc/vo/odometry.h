@@ -99,6 +99,8 @@ struct FrameTracking {
   int num_features = 0, num_matches = 0, num_static = 0, num_dynamic = 0, num_inliers = 0;
   double position_sigma = 0;            ///< m, camera position's standard deviation along
                                         ///< its least constrained direction (refinement)
+  double pixel_error_median = 0;        ///< px, refinement's median reprojection error
+  double depth_error_median = 0;        ///< m, refinement's median depth error
   StageTimes times;
   /// Current keypoints and their labels (Undecided when unmatched), for overlays/masks.
   std::vector<cv::Point2f> keypoints;

@@ -40,6 +40,11 @@ struct RefinementResult {
   int inliers = 0;            ///< observations with whitened error below the Huber threshold
   double final_cost = 0;
   bool converged = false;
+  /// Medians over the observations at the result: reprojection error (px) and depth
+  /// error (m). Next to pixel_sigma and the depth noise model they show whether a
+  /// sensor's noise is the one assumed (doc/odometry.md, sixth round).
+  double median_pixel_error = 0;
+  double median_depth_error = 0;
   /// Information (whitened Gauss-Newton Hessian, Huber-weighted) at the result; its
   /// inverse is the motion's covariance, twist order (translation, rotation).
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
