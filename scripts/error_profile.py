@@ -23,7 +23,7 @@ import statistics
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from window_eval import read_tum  # noqa: E402
+from window_eval import associate_pairs, read_tum  # noqa: E402
 
 
 def rotation(q):
@@ -94,15 +94,10 @@ def smoothed(P, width):
 def main():
     run, gt_path = sys.argv[1], sys.argv[2]
     est, gt = read_tum(os.path.join(run, 'trajectory_tum.txt')), read_tum(gt_path)
-    P, Q, Rcam = [], [], []
-    j = 0
-    for r in est:
-        while j + 1 < len(gt) and abs(gt[j + 1][0] - r[0]) <= abs(gt[j][0] - r[0]):
-            j += 1
-        if abs(gt[j][0] - r[0]) <= 0.02:
-            P.append(r[1:4])
-            Q.append(gt[j][1:4])
-            Rcam.append(rotation(r[4:8]))
+    pairs = associate_pairs([r[0] for r in est], gt)
+    P = [est[i][1:4] for i, _ in pairs]
+    Q = [g[1:4] for _, g in pairs]
+    Rcam = [rotation(est[i][4:8]) for i, _ in pairs]
     if len(P) < 3:
         sys.exit('error_profile.py: fewer than 3 poses of %s match the ground truth' % run)
     errors, R = align(P, Q)

@@ -31,17 +31,22 @@ def read_tum(path):
     return rows
 
 
-def associate(est_stamps, gt, max_dt=0.02):
-    """Nearest ground-truth row per estimated stamp, each within max_dt."""
+def associate_pairs(est_stamps, gt, max_dt=0.02):
+    """(index into est_stamps, nearest ground-truth row) for every stamp with one within max_dt."""
     gt_stamps = [r[0] for r in gt]
     out = []
     j = 0
-    for s in est_stamps:
+    for i, s in enumerate(est_stamps):
         while j + 1 < len(gt_stamps) and abs(gt_stamps[j + 1] - s) <= abs(gt_stamps[j] - s):
             j += 1
         if abs(gt_stamps[j] - s) <= max_dt:
-            out.append(gt[j])
+            out.append((i, gt[j]))
     return out
+
+
+def associate(est_stamps, gt, max_dt=0.02):
+    """Nearest ground-truth row per estimated stamp, each within max_dt."""
+    return [row for _, row in associate_pairs(est_stamps, gt, max_dt)]
 
 
 def standing_still_ate(est_path, gt_path):

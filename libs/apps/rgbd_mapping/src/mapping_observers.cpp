@@ -230,8 +230,9 @@ void TrackingLog::onFrame(const FrameEvent& e) {
        << t.window_shift << "," << t.window_discarded << "," << t.background_source << "," << t.num_matches << ","
        << t.num_static << "," << t.num_dynamic << "," << t.num_inliers << "," << t.static_landmarks_matched << ","
        << t.static_landmarks_agreeing << "," << t.gmc.clusters.size() << "," << t.gmc.static_fallback << ","
-       << t.position_sigma << "," << t.pixel_error_median << "," << t.depth_error_median << "," << p.x() << "," << p.y() << "," << p.z() << "," << q.x() << "," << q.y() << ","
-       << q.z() << "," << q.w() << ",\"" << reason << "\"\n";
+       << t.position_sigma << "," << t.pixel_error_median << "," << t.depth_error_median << "," << p.x() << ","
+       << p.y() << "," << p.z() << "," << q.x() << "," << q.y() << "," << q.z() << "," << q.w() << ",\"" << reason
+       << "\"\n";
 }
 
 void TrackingLog::onEnd(PipelineReport&, const mapping::StaticMapBuilder*) {
