@@ -10,7 +10,10 @@ with Output.tracking_log=true) against a TUM ground truth:
 - the RMS of the aligned error along the estimated camera's own axes (x right, y down,
   z forward): lateral errors are the translation-rotation trade of distant texture;
 - the median over tracked frames of the refinement's median reprojection error (px)
-  and depth error (m), to set against [Refinement] pixel_sigma and the depth noise model.
+  and depth error (m), to set against [Refinement] pixel_sigma and the depth noise model;
+- of the landmarks that held one tracked frame's pose, the share the next frame matched
+  again (the rest are re-found later or replaced at the next keyframe), and the
+  keyframes taken per 100 frames.
 
   ./build/bin/gmc-rgbd-mapping config/bonn.ini $D/bonn_crowd_301_460 --out /tmp/r \\
       --set Output.map=false --set Output.tracking_log=true
@@ -118,6 +121,14 @@ def main():
             print('refinement, median over %d tracked frames: reprojection %.2f px, depth %.4f m' % (
                 len(rows), statistics.median(float(r['pixel_error_median']) for r in rows),
                 statistics.median(float(r['depth_error_median']) for r in rows)))
+        every = list(csv.DictReader(open(log)))
+        to_refind = sum(int(r['landmarks_to_refind']) for r in every)
+        refound = sum(int(r['landmarks_refound']) for r in every)
+        keyframes = sum(int(r['keyframe']) for r in every)
+        if to_refind:
+            print('landmarks that held a pose, matched again the next frame: %.1f %% (%d of %d); '
+                  '%.1f keyframes per 100 frames' % (100.0 * refound / to_refind, refound, to_refind,
+                                                     100.0 * keyframes / len(every)))
 
 
 if __name__ == '__main__':

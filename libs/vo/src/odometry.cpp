@@ -92,6 +92,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   matchToMap(cur, T_world_pred, camera, stamp, track_);
   out.num_matches = track_.num_matches;
   out.landmarks_in_view = static_cast<int>(track_.view.ids.size());
+  countRefound(out);
   out.times.frontend += msSince(t0);
 
   // 2. The background: motion hypotheses judged by GMC and the landmarks' static evidence.
@@ -119,6 +120,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   for (size_t i = 0; i < cur.size(); ++i)
     if (fresh_dynamic_[i]) memory_[i] = config_.odometry.dynamic_memory_frames;
 
+  rememberPoseLandmarks(out);
   // 6. Static evidence, keyframes, windowed optimisation.
   t0 = Clock::now();
   updateMap(cur, stamp, out);
@@ -146,6 +148,7 @@ void RgbdOdometry::initialize(features::FeatureSet&& cur, double stamp, FrameTra
   out.new_keyframe = true;
   map_.clear();
   window_keyframes_.clear();
+  pose_landmarks_.clear();
   keyframe_count_ = 0;
   track_ = MapTrack{};
   track_.matched.assign(cur.size(), 0);
@@ -158,6 +161,28 @@ void RgbdOdometry::initialize(features::FeatureSet&& cur, double stamp, FrameTra
   last_stamp_ = stamp;
   lost_streak_ = 0;
   initialized_ = true;
+}
+
+void RgbdOdometry::countRefound(FrameTracking& out) const {
+  // Each one missed here is re-found later or replaced at the next keyframe by a landmark
+  // carrying that keyframe's pose error (doc/odometry.md, "Seventh round").
+  std::vector<std::uint8_t> matched(map_.size(), 0);
+  for (int id : track_.landmark) matched[static_cast<size_t>(id)] = 1;
+  for (int id : pose_landmarks_) {
+    if (!map_[id].alive) continue;
+    ++out.landmarks_to_refind;
+    out.landmarks_refound += matched[static_cast<size_t>(id)];
+  }
+}
+
+void RgbdOdometry::rememberPoseLandmarks(const FrameTracking& out) {
+  // Taken before the map update: the ids are this frame's (a keyframe's cull may renumber
+  // them, addKeyframe then renumbers these too).
+  pose_landmarks_.clear();
+  if (out.state != TrackingState::Tracking) return;
+  for (size_t k = 0; k < track_.motion.size(); ++k)
+    if (choice_.gmc.labels[k] == MotionLabel::Static && track_.trust.weight[k] > 0)
+      pose_landmarks_.push_back(track_.landmark[k]);
 }
 
 void RgbdOdometry::matchPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_pred,
@@ -383,6 +408,7 @@ void RgbdOdometry::startNewMap(const features::FeatureSet& cur) {
   if (with_depth < config_.odometry.min_matches) return;
   map_.clear();
   window_keyframes_.clear();
+  pose_landmarks_.clear();
   // This frame's matches point into the old map: none of them is an observation now.
   track_.motion.clear();
   track_.cur_index.clear();
@@ -413,6 +439,10 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
                             window_keyframes_.begin() + static_cast<long>(window_keyframes_.size() - capacity));
   const std::vector<int> remap = map_.cull(stamp);
   if (remap.empty()) return;
+  std::vector<int> kept_ids;
+  for (int id : pose_landmarks_)
+    if (remap[static_cast<size_t>(id)] >= 0) kept_ids.push_back(remap[static_cast<size_t>(id)]);
+  pose_landmarks_.swap(kept_ids);
   for (auto& w : window_keyframes_) {
     std::vector<WindowObservation> kept;
     for (auto ob : w.observations) {

@@ -95,6 +95,9 @@ struct FrameTracking {
   int landmarks_in_view = 0;            ///< landmarks projected into this frame
   int static_landmarks_matched = 0;     ///< matches on landmarks with static evidence ...
   int static_landmarks_agreeing = 0;    ///< ... of which the chosen background labels static
+  int landmarks_to_refind = 0;          ///< landmarks that held the previous tracked frame's pose
+                                        ///< (static, trusted) and are still in the map ...
+  int landmarks_refound = 0;            ///< ... of which this frame matched again
   const char* background_source = "";   ///< hypothesis chosen: prediction | ransac_static | ransac_all
   int num_features = 0, num_matches = 0, num_static = 0, num_dynamic = 0, num_inliers = 0;
   double position_sigma = 0;            ///< m, camera position's standard deviation along
@@ -166,6 +169,9 @@ class RgbdOdometry {
   void labelAgainstPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_cur,
                                  FrameTracking& out);
   Isometry predictPose() const;
+  /// How many of the landmarks that held the last tracked pose this frame found again.
+  void countRefound(FrameTracking& out) const;
+  void rememberPoseLandmarks(const FrameTracking& out);
 
   OdometryConfig config_;
   features::Frontend frontend_;
@@ -189,6 +195,7 @@ class RgbdOdometry {
   int lost_streak_ = 0;
   int keyframe_count_ = 0;
   std::vector<WindowKeyframe> window_keyframes_;  ///< oldest first
+  std::vector<int> pose_landmarks_;     ///< landmarks that held the last tracked pose (ids)
 };
 
 }  // namespace gmc::vo
