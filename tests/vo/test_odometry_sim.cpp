@@ -224,6 +224,42 @@ TEST(OdometrySim, ACorrectionAfterLostFramesIsNoVelocityEvenOnAKeyframe) {
   EXPECT_LT(predicted_step, 0.02);
 }
 
+/// Tracks `seen` frames of a static scene under a moving camera, then two blank frames;
+/// returns how far the second lost frame's pose (predicted from the first, which was
+/// predicted from a tracked frame) is from the first's.
+double stepIntoALostFrame(int seen, double still_share) {
+  auto o = gmc::sim::SimOptions::exact();
+  o.people.walkers = 0;
+  o.trajectory.style = "halfsphere";
+  const gmc::sim::Simulator sim(o);
+  gmc::vo::OdometryConfig config;
+  config.odometry.young_map_lost_still_share = still_share;
+  gmc::vo::RgbdOdometry vo(config);
+  for (int i = 0; i < seen; ++i)
+    EXPECT_NE(trackSimFrame(sim, vo, i).tracking.state, gmc::vo::TrackingState::Lost) << i;
+  const auto first = trackSimFrame(sim, vo, seen, true).tracking;
+  const auto second = trackSimFrame(sim, vo, seen + 1, true).tracking;
+  EXPECT_EQ(first.state, gmc::vo::TrackingState::Lost);
+  EXPECT_EQ(second.state, gmc::vo::TrackingState::Lost);
+  return (second.T_world_camera.translation() - first.T_world_camera.translation()).norm();
+}
+
+// Lost frames extrapolate the velocity (halved each frame), unless the map is younger
+// than its static evidence (a second) and the last tracked frame saw walkers: then the
+// velocity may be a walker's and the frames after the first lost one stand still. Without walkers (share 0 below the
+// default 0.2) it extrapolates; with the threshold at 0 it stands still in a young map
+// and extrapolates again once landmarks have static evidence.
+TEST(OdometrySim, ALostFrameInAYoungMapStandsStillOnlyAfterWalkers) {
+  const double young_default = stepIntoALostFrame(10, 0.2);
+  const double young_always = stepIntoALostFrame(10, 0.0);
+  const double old_always = stepIntoALostFrame(45, 0.0);
+  std::printf("  step between two lost frames: young map %.4f m (default), %.4f m (threshold 0); "
+              "evidence-holding map %.4f m (threshold 0)\n", young_default, young_always, old_always);
+  EXPECT_GT(young_default, 1e-3);
+  EXPECT_LT(young_always, 1e-9);
+  EXPECT_GT(old_always, 1e-3);
+}
+
 /// Keyframes whose landmarks are alive in the odometry's map, after tracking 20 frames of
 /// a static scene and then frames the map cannot explain (a fresh noise image each, the
 /// depth kept) until the odometry re-anchors.

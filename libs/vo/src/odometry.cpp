@@ -65,7 +65,18 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
       gmc_previous_(config.gmc) {}
 
 Isometry RgbdOdometry::predictPose() const {
-  return config_.odometry.use_motion_model ? T_world_last_ * velocity_ : T_world_last_;
+  return config_.odometry.use_motion_model && !standStillWhileLost() ? T_world_last_ * velocity_ : T_world_last_;
+}
+
+bool RgbdOdometry::standStillWhileLost() const {
+  // A lost frame extrapolates the last velocity, halved each frame. Before any landmark
+  // has static evidence, and with walkers in view, that velocity may be one the estimate
+  // learnt by following a walker (301_460's start drifted 6 cm on while lost); with no
+  // evidence to tell, standing still is the safer guess for a hand-held camera. Tracked
+  // frames keep extrapolating: a still prediction makes a group walking in step with the
+  // camera look like background (doc/odometry.md, seventh round).
+  return lost_streak_ > 0 && last_tracked_static_landmarks_ < config_.background.min_static_landmarks &&
+         last_tracked_dynamic_share_ >= config_.odometry.young_map_lost_still_share;
 }
 
 // ------------------------------------------------------------------ the recipe
@@ -121,6 +132,10 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
     if (fresh_dynamic_[i]) memory_[i] = config_.odometry.dynamic_memory_frames;
 
   rememberPoseLandmarks(out);
+  if (out.state == TrackingState::Tracking) {
+    last_tracked_static_landmarks_ = out.static_landmarks_matched;
+    last_tracked_dynamic_share_ = static_cast<double>(out.num_dynamic) / std::max(1, out.num_static + out.num_dynamic);
+  }
   // 6. Static evidence, keyframes, windowed optimisation.
   t0 = Clock::now();
   updateMap(cur, stamp, out);
@@ -160,6 +175,8 @@ void RgbdOdometry::initialize(features::FeatureSet&& cur, double stamp, FrameTra
   T_world_previous_ = T_world_last_ = velocity_ = Isometry::Identity();
   last_stamp_ = stamp;
   lost_streak_ = 0;
+  last_tracked_static_landmarks_ = 0;
+  last_tracked_dynamic_share_ = 0;
   initialized_ = true;
 }
 

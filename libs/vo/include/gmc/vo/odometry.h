@@ -34,6 +34,10 @@ struct OdometryOptions {
   double max_position_sigma = 0.10;     ///< m; a pose whose camera position is less well
                                         ///< determined than this (standard deviation along
                                         ///< its weakest direction) is lost (0 = no check)
+  double young_map_lost_still_share = 0.2;  ///< a lost frame stands still instead of
+                                        ///< extrapolating the velocity when the map holds no
+                                        ///< static evidence yet and at least this share of the
+                                        ///< last tracked frame's labelled matches were dynamic
 
   template <class V>
   void visit(V& v) {
@@ -50,6 +54,9 @@ struct OdometryOptions {
       "frames a dynamic label is remembered along frame-to-frame matches (0 = off)");
     v("max_position_sigma", max_position_sigma, 0.0, 100.0,
       "m, lost when the position's standard deviation along its weakest direction exceeds this (0 = off)");
+    v("young_map_lost_still_share", young_map_lost_still_share, 0.0, 2.0,
+      "lost frames in a map without static evidence stand still when this share of the last tracked "
+      "frame's labelled matches were dynamic (0 = always, above 1 = never)");
   }
 };
 
@@ -169,6 +176,8 @@ class RgbdOdometry {
   void labelAgainstPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_cur,
                                  FrameTracking& out);
   Isometry predictPose() const;
+  /// A lost frame in a map without static evidence, after walkers: the velocity may be theirs.
+  bool standStillWhileLost() const;
   /// How many of the landmarks that held the last tracked pose this frame found again.
   void countRefound(FrameTracking& out) const;
   void rememberPoseLandmarks(const FrameTracking& out);
@@ -193,6 +202,9 @@ class RgbdOdometry {
   double last_stamp_ = 0;
   Isometry velocity_ = Isometry::Identity();  ///< last frame-to-frame motion
   int lost_streak_ = 0;
+  int last_tracked_static_landmarks_ = 0;   ///< landmarks with static evidence the last tracked
+                                            ///< frame matched ...
+  double last_tracked_dynamic_share_ = 0;   ///< ... and the dynamic share of its labels
   int keyframe_count_ = 0;
   std::vector<WindowKeyframe> window_keyframes_;  ///< oldest first
   std::vector<int> pose_landmarks_;     ///< landmarks that held the last tracked pose (ids)
