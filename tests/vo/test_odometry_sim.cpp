@@ -27,6 +27,14 @@ SimStep trackSimFrame(const gmc::sim::Simulator& sim, gmc::vo::RgbdOdometry& vo,
   return step;
 }
 
+/// The exact simulator without people, the camera moving on a half sphere.
+gmc::sim::SimOptions emptyHalfsphere() {
+  auto o = gmc::sim::SimOptions::exact();
+  o.people.walkers = 0;
+  o.trajectory.style = "halfsphere";
+  return o;
+}
+
 /// Runs the odometry over simulated frames; returns the worst position error against
 /// the ground truth (both expressed relative to the first frame).
 double worstError(const gmc::sim::SimOptions& options, const gmc::vo::OdometryConfig& config, int frames,
@@ -200,10 +208,7 @@ TEST(OdometrySim, TrackingResumesOnTheMapAfterABlindStretch) {
 // bonn_crowd_301_460 frame 152 stepped 9.6 cm after 8 lost frames and the next lost
 // frames were extrapolated another 18 cm from it.
 TEST(OdometrySim, ACorrectionAfterLostFramesIsNoVelocityEvenOnAKeyframe) {
-  auto o = gmc::sim::SimOptions::exact();
-  o.people.walkers = 0;
-  o.trajectory.style = "halfsphere";
-  const gmc::sim::Simulator sim(o);
+  const gmc::sim::Simulator sim(emptyHalfsphere());
   gmc::vo::RgbdOdometry vo{gmc::vo::OdometryConfig{}};
   const int blind = 25;  // the camera moves on unseen: the prediction falls behind
   int i = 0;
@@ -228,10 +233,7 @@ TEST(OdometrySim, ACorrectionAfterLostFramesIsNoVelocityEvenOnAKeyframe) {
 /// returns how far the second lost frame's pose (predicted from the first, which was
 /// predicted from a tracked frame) is from the first's.
 double stepIntoALostFrame(int seen, double still_share) {
-  auto o = gmc::sim::SimOptions::exact();
-  o.people.walkers = 0;
-  o.trajectory.style = "halfsphere";
-  const gmc::sim::Simulator sim(o);
+  const gmc::sim::Simulator sim(emptyHalfsphere());
   gmc::vo::OdometryConfig config;
   config.odometry.young_map_lost_still_share = still_share;
   gmc::vo::RgbdOdometry vo(config);
@@ -264,10 +266,7 @@ TEST(OdometrySim, ALostFrameInAYoungMapStandsStillOnlyAfterWalkers) {
 /// a static scene and then frames the map cannot explain (a fresh noise image each, the
 /// depth kept) until the odometry re-anchors.
 std::set<int> keyframesInMapAfterReanchor(bool new_map) {
-  auto o = gmc::sim::SimOptions::exact();
-  o.people.walkers = 0;
-  o.trajectory.style = "halfsphere";
-  const gmc::sim::Simulator sim(o);
+  const gmc::sim::Simulator sim(emptyHalfsphere());
   gmc::vo::OdometryConfig config;
   config.keyframes.reanchor_new_map = new_map;
   gmc::vo::RgbdOdometry vo(config);
