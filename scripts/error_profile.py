@@ -116,12 +116,13 @@ def main():
         math.sqrt(a / len(P)) for a in axes))
     log = os.path.join(run, 'tracking.csv')
     if os.path.exists(log):
-        rows = [r for r in csv.DictReader(open(log)) if r['state'] == 'tracking']
+        with open(log) as f:
+            every = list(csv.DictReader(f))
+        rows = [r for r in every if r['state'] == 'tracking']
         if rows:
             print('refinement, median over %d tracked frames: reprojection %.2f px, depth %.4f m' % (
                 len(rows), statistics.median(float(r['pixel_error_median']) for r in rows),
                 statistics.median(float(r['depth_error_median']) for r in rows)))
-        every = list(csv.DictReader(open(log)))
         to_refind = sum(int(r['landmarks_to_refind']) for r in every)
         refound = sum(int(r['landmarks_refound']) for r in every)
         keyframes = sum(int(r['keyframe']) for r in every)
@@ -129,7 +130,6 @@ def main():
             print('landmarks that held a pose, matched again the next frame: %.1f %% (%d of %d); '
                   '%.1f keyframes per 100 frames' % (100.0 * refound / to_refind, refound, to_refind,
                                                      100.0 * keyframes / len(every)))
-
 
 if __name__ == '__main__':
     main()

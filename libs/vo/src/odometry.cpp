@@ -131,11 +131,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   for (size_t i = 0; i < cur.size(); ++i)
     if (fresh_dynamic_[i]) memory_[i] = config_.odometry.dynamic_memory_frames;
 
-  rememberPoseLandmarks(out);
-  if (out.state == TrackingState::Tracking) {
-    last_tracked_static_landmarks_ = out.static_landmarks_matched;
-    last_tracked_dynamic_share_ = static_cast<double>(out.num_dynamic) / std::max(1, out.num_static + out.num_dynamic);
-  }
+  rememberTrackedFrame(out);
   // 6. Static evidence, keyframes, windowed optimisation.
   t0 = Clock::now();
   updateMap(cur, stamp, out);
@@ -192,11 +188,13 @@ void RgbdOdometry::countRefound(FrameTracking& out) const {
   }
 }
 
-void RgbdOdometry::rememberPoseLandmarks(const FrameTracking& out) {
+void RgbdOdometry::rememberTrackedFrame(const FrameTracking& out) {
   // Taken before the map update: the ids are this frame's (a keyframe's cull may renumber
   // them, addKeyframe then renumbers these too).
   pose_landmarks_.clear();
   if (out.state != TrackingState::Tracking) return;
+  last_tracked_static_landmarks_ = out.static_landmarks_matched;
+  last_tracked_dynamic_share_ = static_cast<double>(out.num_dynamic) / std::max(1, out.num_static + out.num_dynamic);
   for (size_t k = 0; k < track_.motion.size(); ++k)
     if (choice_.gmc.labels[k] == MotionLabel::Static && track_.trust.weight[k] > 0)
       pose_landmarks_.push_back(track_.landmark[k]);

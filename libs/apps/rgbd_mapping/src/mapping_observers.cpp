@@ -213,8 +213,8 @@ void MemorySampler::onEnd(PipelineReport&, const mapping::StaticMapBuilder*) {
 
 TrackingLog::TrackingLog(std::string out_dir) : dir_(std::move(out_dir)) {
   csv_ << "frame,stamp,state,keyframe,window_shift,window_discarded,background,matches,static,dynamic,inliers,"
-          "static_landmarks_matched,static_landmarks_agreeing,landmarks_to_refind,landmarks_refound,gmc_clusters,gmc_static_fallback,position_sigma,"
-          "pixel_error_median,depth_error_median,x,y,z,qx,qy,qz,qw,lost_reason\n"
+          "static_landmarks_matched,static_landmarks_agreeing,landmarks_to_refind,landmarks_refound,gmc_clusters,"
+          "gmc_static_fallback,position_sigma,pixel_error_median,depth_error_median,x,y,z,qx,qy,qz,qw,lost_reason\n"
        << std::fixed << std::setprecision(6);
 }
 

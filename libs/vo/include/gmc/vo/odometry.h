@@ -180,7 +180,10 @@ class RgbdOdometry {
   bool standStillWhileLost() const;
   /// How many of the landmarks that held the last tracked pose this frame found again.
   void countRefound(FrameTracking& out) const;
-  void rememberPoseLandmarks(const FrameTracking& out);
+  /// What a tracked frame leaves for the next: the landmarks that held its pose, its static
+  /// landmarks matched and its dynamic share (standStillWhileLost). After a lost frame no
+  /// landmark is to be re-found; the last tracked frame's figures stay.
+  void rememberTrackedFrame(const FrameTracking& out);
 
   OdometryConfig config_;
   features::Frontend frontend_;
