@@ -404,7 +404,8 @@ void RgbdOdometry::updateMap(const features::FeatureSet& cur, double stamp, Fram
     map_.observe(seen, track_.view.ids, out.T_world_camera, stamp, InPlaceThreshold{b.inlier_base, b.inlier_per_m2});
   }
   const KeyframeDecision decision =
-      keyframe_policy_.decide(out.state == TrackingState::Tracking, out.T_world_camera, out.num_inliers, lost_streak_);
+      keyframe_policy_.decide(out.state == TrackingState::Tracking, out.T_world_camera, out.num_inliers,
+                              out.landmarks_in_view, lost_streak_);
   if (decision == KeyframeDecision::None) return;
   if (decision == KeyframeDecision::Reanchor) {
     out.state = TrackingState::Reanchored;

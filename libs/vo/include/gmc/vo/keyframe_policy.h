@@ -9,6 +9,10 @@ namespace gmc::vo {
 struct KeyframeOptions {
   double min_overlap = 0.6;        ///< new keyframe when static inliers fall below this
                                    ///< fraction of those of the first frame after the last one
+  double min_view_overlap = 0.9;   ///< new keyframe when the map's landmarks in view fall
+                                   ///< below this fraction of those of that frame: the
+                                   ///< camera turns to where the map is thin (occluders
+                                   ///< do not change it; eighth round, doc/odometry.md)
   double max_translation = 0.25;   ///< m from the last keyframe
   double max_rotation = 15.0;      ///< deg from the last keyframe
   int reanchor_after_lost = 30;    ///< consecutive lost frames before a keyframe is
@@ -24,6 +28,8 @@ struct KeyframeOptions {
   void visit(V& v) {
     v("min_overlap", min_overlap, 0.0, 1.0,
       "new keyframe below this fraction of the static inliers seen just after the last one");
+    v("min_view_overlap", min_view_overlap, 0.0, 1.0,
+      "new keyframe below this fraction of the map's landmarks in view just after the last one (0 = off)");
     v("max_translation", max_translation, 0.0, 100.0, "m from the last keyframe");
     v("max_rotation", max_rotation, 0.0, 180.0, "deg from the last keyframe");
     v("reanchor_after_lost", reanchor_after_lost, 1, 100000,
@@ -44,15 +50,19 @@ class KeyframePolicy {
   void reset(const Isometry& T_world_kf) {
     T_world_kf_ = T_world_kf;
     reference_inliers_ = 0;
+    reference_in_view_ = 0;
   }
 
-  /// One frame: tracked with `static_inliers`, or lost for `lost_streak` frames in a row.
-  KeyframeDecision decide(bool tracked, const Isometry& T_world_cur, int static_inliers, int lost_streak);
+  /// One frame: tracked with `static_inliers` and `landmarks_in_view` (the map's landmarks
+  /// projecting into its image), or lost for `lost_streak` frames in a row.
+  KeyframeDecision decide(bool tracked, const Isometry& T_world_cur, int static_inliers, int landmarks_in_view,
+                          int lost_streak);
 
  private:
   KeyframeOptions options_;
   Isometry T_world_kf_ = Isometry::Identity();
   int reference_inliers_ = 0;
+  int reference_in_view_ = 0;
 };
 
 }  // namespace gmc::vo
