@@ -6,52 +6,72 @@ namespace {
 
 using gmc::Isometry;
 using gmc::vo::KeyframeDecision;
+using gmc::vo::KeyframeFrame;
 using gmc::vo::KeyframeOptions;
 using gmc::vo::KeyframePolicy;
 
-/// A policy just past its keyframe, whose first tracked frame had 100 static inliers and
-/// 400 landmarks in view.
+KeyframeFrame tracked(int static_inliers, int landmarks_in_view, double dynamic_share = 0) {
+  KeyframeFrame f;
+  f.tracked = true;
+  f.static_inliers = static_inliers;
+  f.landmarks_in_view = landmarks_in_view;
+  f.dynamic_share = dynamic_share;
+  return f;
+}
+
+/// A policy just past its keyframe, whose first tracked frame (the overlap reference) had
+/// 100 static inliers and 400 landmarks in view.
 KeyframePolicy afterReferenceFrame(const KeyframeOptions& options) {
   KeyframePolicy policy(options);
   policy.reset(Isometry::Identity());
-  EXPECT_EQ(policy.decide(true, Isometry::Identity(), 100, 400, 0), KeyframeDecision::None);
+  EXPECT_EQ(policy.decide(tracked(100, 400)), KeyframeDecision::None);
   return policy;
 }
 
 TEST(KeyframePolicy, WalkersHidingTheBackgroundTakeNoKeyframeUntilTheInliersAreWeak) {
   // Occlusion: the map's landmarks stay in view, the static inliers fall.
   KeyframePolicy policy = afterReferenceFrame(KeyframeOptions{});
-  EXPECT_EQ(policy.decide(true, Isometry::Identity(), 61, 400, 0), KeyframeDecision::None);
-  EXPECT_EQ(policy.decide(true, Isometry::Identity(), 59, 400, 0), KeyframeDecision::Insert);
+  EXPECT_EQ(policy.decide(tracked(61, 400, 0.5)), KeyframeDecision::None);
+  EXPECT_EQ(policy.decide(tracked(59, 400, 0.5)), KeyframeDecision::Insert);
 }
 
-TEST(KeyframePolicy, AMapLeavingTheViewTakesAKeyframeWhileTheInliersHold) {
-  // A camera turning into unmapped space: fewer landmarks project into the image while
-  // the inliers (relative to a weak reference frame) are still plenty.
+TEST(KeyframePolicy, AThinningMapTakesAKeyframeWhileTheInliersHold) {
+  // The camera turns away or the map erodes: fewer landmarks in view, while the inliers
+  // (measured against a weak reference frame) are still plenty.
   KeyframePolicy policy = afterReferenceFrame(KeyframeOptions{});
-  EXPECT_EQ(policy.decide(true, Isometry::Identity(), 100, 361, 0), KeyframeDecision::None);
-  EXPECT_EQ(policy.decide(true, Isometry::Identity(), 100, 359, 0), KeyframeDecision::Insert);
-  // The next reference is the first frame after the new keyframe.
-  EXPECT_EQ(policy.decide(true, Isometry::Identity(), 100, 359, 0), KeyframeDecision::None);
-  EXPECT_EQ(policy.decide(true, Isometry::Identity(), 100, 330, 0), KeyframeDecision::None);
-  EXPECT_EQ(policy.decide(true, Isometry::Identity(), 100, 320, 0), KeyframeDecision::Insert);
+  EXPECT_EQ(policy.decide(tracked(100, 361)), KeyframeDecision::None);
+  EXPECT_EQ(policy.decide(tracked(100, 359)), KeyframeDecision::Insert);
+  // The next reference is the first tracked frame after the new keyframe.
+  EXPECT_EQ(policy.decide(tracked(100, 300)), KeyframeDecision::None);
+  EXPECT_EQ(policy.decide(tracked(100, 271)), KeyframeDecision::None);
+  EXPECT_EQ(policy.decide(tracked(100, 269)), KeyframeDecision::Insert);
+}
+
+TEST(KeyframePolicy, AThinningMapAmongWalkersTakesNoKeyframe) {
+  // Walkers' landmarks dropping thin the map too, and a keyframe among walkers seeds the
+  // map with them: the view criterion waits for a frame with few dynamic labels.
+  KeyframePolicy policy = afterReferenceFrame(KeyframeOptions{});
+  EXPECT_EQ(policy.decide(tracked(100, 300, 0.1)), KeyframeDecision::None);
+  EXPECT_EQ(policy.decide(tracked(100, 300, 0.09)), KeyframeDecision::Insert);
 }
 
 TEST(KeyframePolicy, TheViewCriterionIsOffAtZero) {
   KeyframeOptions options;
   options.min_view_overlap = 0;
   KeyframePolicy policy = afterReferenceFrame(options);
-  EXPECT_EQ(policy.decide(true, Isometry::Identity(), 100, 10, 0), KeyframeDecision::None);
+  EXPECT_EQ(policy.decide(tracked(100, 10)), KeyframeDecision::None);
 }
 
 TEST(KeyframePolicy, DistanceFromTheKeyframeAndLongLossesDecideToo) {
   KeyframePolicy policy = afterReferenceFrame(KeyframeOptions{});
-  Isometry far = Isometry::Identity();
-  far.translation().x() = 0.3;
-  EXPECT_EQ(policy.decide(true, far, 100, 400, 0), KeyframeDecision::Insert);
-  const int reanchor = KeyframeOptions{}.reanchor_after_lost;
-  EXPECT_EQ(policy.decide(false, far, 0, 0, reanchor - 1), KeyframeDecision::None);
-  EXPECT_EQ(policy.decide(false, far, 0, 0, reanchor), KeyframeDecision::Reanchor);
+  KeyframeFrame far = tracked(100, 400);
+  far.T_world_cur.translation().x() = 0.3;
+  EXPECT_EQ(policy.decide(far), KeyframeDecision::Insert);
+  KeyframeFrame lost;
+  lost.lost_streak = KeyframeOptions{}.reanchor_after_lost - 1;
+  EXPECT_EQ(policy.decide(lost), KeyframeDecision::None);
+  ++lost.lost_streak;
+  EXPECT_EQ(policy.decide(lost), KeyframeDecision::Reanchor);
 }
 
 }  // namespace

@@ -403,9 +403,14 @@ void RgbdOdometry::updateMap(const features::FeatureSet& cur, double stamp, Fram
     const auto& b = config_.background;
     map_.observe(seen, track_.view.ids, out.T_world_camera, stamp, InPlaceThreshold{b.inlier_base, b.inlier_per_m2});
   }
-  const KeyframeDecision decision =
-      keyframe_policy_.decide(out.state == TrackingState::Tracking, out.T_world_camera, out.num_inliers,
-                              out.landmarks_in_view, lost_streak_);
+  KeyframeFrame frame;
+  frame.tracked = out.state == TrackingState::Tracking;
+  frame.T_world_cur = out.T_world_camera;
+  frame.static_inliers = out.num_inliers;
+  frame.landmarks_in_view = out.landmarks_in_view;
+  frame.dynamic_share = last_tracked_dynamic_share_;  // this frame's, when tracked
+  frame.lost_streak = lost_streak_;
+  const KeyframeDecision decision = keyframe_policy_.decide(frame);
   if (decision == KeyframeDecision::None) return;
   if (decision == KeyframeDecision::Reanchor) {
     out.state = TrackingState::Reanchored;

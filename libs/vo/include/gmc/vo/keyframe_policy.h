@@ -10,9 +10,13 @@ struct KeyframeOptions {
   double min_overlap = 0.6;        ///< new keyframe when static inliers fall below this
                                    ///< fraction of those of the first frame after the last one
   double min_view_overlap = 0.9;   ///< new keyframe when the map's landmarks in view fall
-                                   ///< below this fraction of those of that frame: the
-                                   ///< camera turns to where the map is thin (occluders
-                                   ///< do not change it; eighth round, doc/odometry.md)
+                                   ///< below this fraction of those of that frame (the
+                                   ///< camera turns away, or the map erodes: landmarks
+                                   ///< dropped after recurring wrong matches) ...
+  double view_max_dynamic_share = 0.1;  ///< ... unless this share or more of the frame's
+                                   ///< labelled matches are dynamic: walkers' landmarks
+                                   ///< dropping lower the count too, and keyframes among
+                                   ///< walkers seed the map with them (eighth round)
   double max_translation = 0.25;   ///< m from the last keyframe
   double max_rotation = 15.0;      ///< deg from the last keyframe
   int reanchor_after_lost = 30;    ///< consecutive lost frames before a keyframe is
@@ -30,6 +34,8 @@ struct KeyframeOptions {
       "new keyframe below this fraction of the static inliers seen just after the last one");
     v("min_view_overlap", min_view_overlap, 0.0, 1.0,
       "new keyframe below this fraction of the map's landmarks in view just after the last one (0 = off)");
+    v("view_max_dynamic_share", view_max_dynamic_share, 0.0, 1.0,
+      "the view criterion applies only below this share of dynamic labelled matches");
     v("max_translation", max_translation, 0.0, 100.0, "m from the last keyframe");
     v("max_rotation", max_rotation, 0.0, 180.0, "deg from the last keyframe");
     v("reanchor_after_lost", reanchor_after_lost, 1, 100000,
@@ -40,6 +46,16 @@ struct KeyframeOptions {
 };
 
 enum class KeyframeDecision { None, Insert, Reanchor };
+
+/// What the keyframe policy knows of a frame.
+struct KeyframeFrame {
+  bool tracked = false;
+  Isometry T_world_cur = Isometry::Identity();
+  int static_inliers = 0;
+  int landmarks_in_view = 0;   ///< the map's landmarks projecting into the image
+  double dynamic_share = 0;    ///< dynamic share of the labelled matches
+  int lost_streak = 0;         ///< lost frames in a row (when not tracked)
+};
 
 class KeyframePolicy {
  public:
@@ -53,10 +69,7 @@ class KeyframePolicy {
     reference_in_view_ = 0;
   }
 
-  /// One frame: tracked with `static_inliers` and `landmarks_in_view` (the map's landmarks
-  /// projecting into its image), or lost for `lost_streak` frames in a row.
-  KeyframeDecision decide(bool tracked, const Isometry& T_world_cur, int static_inliers, int landmarks_in_view,
-                          int lost_streak);
+  KeyframeDecision decide(const KeyframeFrame& frame);
 
  private:
   KeyframeOptions options_;
