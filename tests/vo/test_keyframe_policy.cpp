@@ -5,10 +5,7 @@
 namespace {
 
 using gmc::Isometry;
-using gmc::vo::KeyframeDecision;
-using gmc::vo::KeyframeFrame;
-using gmc::vo::KeyframeOptions;
-using gmc::vo::KeyframePolicy;
+using namespace gmc::vo;  // the policy's few types, all used below
 
 KeyframeFrame tracked(int static_inliers, int landmarks_in_view, double dynamic_share = 0) {
   KeyframeFrame f;
