@@ -15,6 +15,11 @@ double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
+/// The share of a frame's labelled matches that GMC labelled dynamic.
+double dynamicShare(const FrameTracking& t) {
+  return static_cast<double>(t.num_dynamic) / std::max(1, t.num_static + t.num_dynamic);
+}
+
 /// The GMC input of one feature match: current pixel, reference and current 3-D points.
 MotionMatch motionMatch(const features::FeatureSet& ref, const features::FeatureSet& cur,
                         const features::FeatureMatch& m) {
@@ -194,7 +199,7 @@ void RgbdOdometry::rememberTrackedFrame(const FrameTracking& out) {
   pose_landmarks_.clear();
   if (out.state != TrackingState::Tracking) return;
   last_tracked_static_landmarks_ = out.static_landmarks_matched;
-  last_tracked_dynamic_share_ = static_cast<double>(out.num_dynamic) / std::max(1, out.num_static + out.num_dynamic);
+  last_tracked_dynamic_share_ = dynamicShare(out);
   for (size_t k = 0; k < track_.motion.size(); ++k)
     if (choice_.gmc.labels[k] == MotionLabel::Static && track_.trust.weight[k] > 0)
       pose_landmarks_.push_back(track_.landmark[k]);
@@ -408,7 +413,7 @@ void RgbdOdometry::updateMap(const features::FeatureSet& cur, double stamp, Fram
   frame.T_world_cur = out.T_world_camera;
   frame.static_inliers = out.num_inliers;
   frame.landmarks_in_view = out.landmarks_in_view;
-  frame.dynamic_share = last_tracked_dynamic_share_;  // this frame's, when tracked
+  frame.dynamic_share = dynamicShare(out);
   frame.lost_streak = lost_streak_;
   const KeyframeDecision decision = keyframe_policy_.decide(frame);
   if (decision == KeyframeDecision::None) return;
