@@ -5,6 +5,8 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 namespace gmc::vo {
 namespace {
@@ -59,11 +61,16 @@ Linearized linearize(const Isometry& T_cw, const Eigen::Vector3d& X, const Windo
   return l;
 }
 
-double totalCost(const WindowProblem& pb, const std::vector<Isometry>& poses,
+/// Per observation: 1 while it takes part (the outlier gate sets 0).
+using ActiveMask = std::vector<std::uint8_t>;
+
+double totalCost(const WindowProblem& pb, const ActiveMask& active, const std::vector<Isometry>& poses,
                  const std::vector<Eigen::Vector3d>& points, const PinholeCamera& camera,
                  const RefinementOptions& noise) {
   double c = 0;
-  for (const auto& ob : pb.observations) {
+  for (size_t o = 0; o < pb.observations.size(); ++o) {
+    if (!active[o]) continue;
+    const auto& ob = pb.observations[o];
     const auto l = linearize(poses[static_cast<size_t>(ob.keyframe)], points[static_cast<size_t>(ob.landmark)], ob,
                              camera, noise);
     if (l.valid) c += l.cost;
@@ -80,7 +87,7 @@ struct NormalEquations {
   std::vector<Mat63> H_pl;  ///< per observation
 };
 
-NormalEquations buildNormalEquations(const WindowProblem& pb, const PinholeCamera& camera,
+NormalEquations buildNormalEquations(const WindowProblem& pb, const ActiveMask& active, const PinholeCamera& camera,
                                      const RefinementOptions& noise) {
   NormalEquations ne;
   ne.H_pp.assign(pb.poses.size(), Mat6::Zero());
@@ -89,6 +96,7 @@ NormalEquations buildNormalEquations(const WindowProblem& pb, const PinholeCamer
   ne.g_l.assign(pb.points.size(), Eigen::Vector3d::Zero());
   ne.H_pl.assign(pb.observations.size(), Mat63::Zero());
   for (size_t o = 0; o < pb.observations.size(); ++o) {
+    if (!active[o]) continue;
     const auto& ob = pb.observations[o];
     const auto l = linearize(pb.poses[static_cast<size_t>(ob.keyframe)], pb.points[static_cast<size_t>(ob.landmark)],
                              ob, camera, noise);
@@ -106,6 +114,24 @@ NormalEquations buildNormalEquations(const WindowProblem& pb, const PinholeCamer
   return ne;
 }
 
+/// Drops the observations whose whitened pixel pair or depth residual exceeds `gate`:
+/// wrong associations (a look-alike corner, a depth-edge flip) that Huber only damps
+/// still pull a window of a few keyframes off by centimetres (doc/odometry.md, ninth round).
+int gateOutliers(const WindowProblem& pb, double gate, const PinholeCamera& camera, const RefinementOptions& noise,
+                 ActiveMask& active) {
+  int removed = 0;
+  for (size_t o = 0; o < pb.observations.size(); ++o) {
+    if (!active[o]) continue;
+    const auto& ob = pb.observations[o];
+    const auto l = linearize(pb.poses[static_cast<size_t>(ob.keyframe)], pb.points[static_cast<size_t>(ob.landmark)],
+                             ob, camera, noise);
+    if (l.valid && l.r.head<2>().norm() <= gate && std::abs(l.r.z()) <= gate) continue;
+    active[o] = 0;
+    ++removed;
+  }
+  return removed;
+}
+
 }  // namespace
 
 bool plausibleWindowShift(const Isometry& T_world_tracked, const Isometry& T_world_optimized, double tracked_sigma,
@@ -118,24 +144,32 @@ bool plausibleWindowShift(const Isometry& T_world_tracked, const Isometry& T_wor
 WindowResult WindowOptimizer::optimize(WindowProblem& pb, const PinholeCamera& camera) const {
   WindowResult result;
   const size_t num_poses = pb.poses.size();
-  result.initial_cost = result.final_cost = totalCost(pb, pb.poses, pb.points, camera, noise_);
-  if (num_poses < 2 || pb.points.empty()) return result;
+  ActiveMask active(pb.observations.size(), 1);
+  result.initial_cost = result.final_cost = totalCost(pb, active, pb.poses, pb.points, camera, noise_);
+  const size_t fixed = static_cast<size_t>(std::max(1, options_.fixed_keyframes));
+  if (num_poses <= fixed || pb.points.empty()) return result;
   std::vector<std::vector<size_t>> obs_of_point(pb.points.size());
   for (size_t o = 0; o < pb.observations.size(); ++o)
     obs_of_point[static_cast<size_t>(pb.observations[o].landmark)].push_back(o);
 
-  const Eigen::Index n = static_cast<Eigen::Index>(6 * (num_poses - 1));  // pose 0 fixed
+  const Eigen::Index n = static_cast<Eigen::Index>(6 * (num_poses - fixed));
+  const auto block = [fixed](size_t k) { return static_cast<Eigen::Index>(6 * (k - fixed)); };
   double lambda = 1e-4;
   for (int it = 0; it < options_.iterations; ++it) {
-    const NormalEquations ne = buildNormalEquations(pb, camera, noise_);
+    // ORB-SLAM's two passes in one loop: Huber first, then without what the gate rejects.
+    if (options_.outlier_gate > 0 && it == options_.iterations / 2) {
+      result.outliers += gateOutliers(pb, options_.outlier_gate, camera, noise_, active);
+      result.final_cost = totalCost(pb, active, pb.poses, pb.points, camera, noise_);
+    }
+    const NormalEquations ne = buildNormalEquations(pb, active, camera, noise_);
     // Reduced camera system S dx = b after eliminating every landmark.
     Eigen::MatrixXd S = Eigen::MatrixXd::Zero(n, n);
     Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
-    for (size_t k = 1; k < num_poses; ++k) {
+    for (size_t k = fixed; k < num_poses; ++k) {
       Mat6 H = ne.H_pp[k];
       H.diagonal() *= 1 + lambda;
-      S.block<6, 6>(6 * (k - 1), 6 * (k - 1)) += H;
-      b.segment<6>(6 * (k - 1)) -= ne.g_p[k];
+      S.block<6, 6>(block(k), block(k)) += H;
+      b.segment<6>(block(k)) -= ne.g_p[k];
     }
     std::vector<Eigen::Matrix3d> H_ll_inv(pb.points.size());
     for (size_t j = 0; j < pb.points.size(); ++j) {
@@ -145,13 +179,13 @@ WindowResult WindowOptimizer::optimize(WindowProblem& pb, const PinholeCamera& c
       H_ll_inv[j] = H.inverse();
       for (size_t a : obs_of_point[j]) {
         const size_t ka = static_cast<size_t>(pb.observations[a].keyframe);
-        if (ka == 0) continue;
+        if (ka < fixed) continue;
         const Mat63 A = ne.H_pl[a] * H_ll_inv[j];
-        b.segment<6>(6 * (ka - 1)) += A * ne.g_l[j];
+        b.segment<6>(block(ka)) += A * ne.g_l[j];
         for (size_t c : obs_of_point[j]) {
           const size_t kc = static_cast<size_t>(pb.observations[c].keyframe);
-          if (kc == 0) continue;
-          S.block<6, 6>(6 * (ka - 1), 6 * (kc - 1)) -= A * ne.H_pl[c].transpose();
+          if (kc < fixed) continue;
+          S.block<6, 6>(block(ka), block(kc)) -= A * ne.H_pl[c].transpose();
         }
       }
     }
@@ -160,17 +194,16 @@ WindowResult WindowOptimizer::optimize(WindowProblem& pb, const PinholeCamera& c
     // Back-substitution, then accept the step only if the robust cost drops.
     std::vector<Isometry> trial_poses = pb.poses;
     std::vector<Eigen::Vector3d> trial_points = pb.points;
-    for (size_t k = 1; k < num_poses; ++k)
-      trial_poses[k] = expSE3(dx.segment<6>(6 * (k - 1))) * pb.poses[k];
+    for (size_t k = fixed; k < num_poses; ++k) trial_poses[k] = expSE3(dx.segment<6>(block(k))) * pb.poses[k];
     for (size_t j = 0; j < pb.points.size(); ++j) {
       Eigen::Vector3d rhs = -ne.g_l[j];
       for (size_t a : obs_of_point[j]) {
         const size_t ka = static_cast<size_t>(pb.observations[a].keyframe);
-        if (ka != 0) rhs -= ne.H_pl[a].transpose() * dx.segment<6>(6 * (ka - 1));
+        if (ka >= fixed) rhs -= ne.H_pl[a].transpose() * dx.segment<6>(block(ka));
       }
       trial_points[j] += H_ll_inv[j] * rhs;
     }
-    const double cost = totalCost(pb, trial_poses, trial_points, camera, noise_);
+    const double cost = totalCost(pb, active, trial_poses, trial_points, camera, noise_);
     ++result.iterations;
     if (cost < result.final_cost) {
       pb.poses.swap(trial_poses);

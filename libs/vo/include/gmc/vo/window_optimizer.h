@@ -1,7 +1,7 @@
 #pragma once
 // Windowed optimisation: the poses of the last keyframes and the static landmarks they
-// observe, refined jointly on reprojection and depth residuals (Huber), the oldest pose
-// held fixed. Gauss-Newton / Levenberg-Marquardt on Eigen with the landmarks eliminated
+// observe, refined jointly on reprojection and depth residuals (Huber, then a chi2 gate),
+// the oldest poses held fixed. Gauss-Newton / Levenberg-Marquardt on Eigen with the landmarks eliminated
 // by the Schur complement (doc/odometry.md says why not Ceres). No I/O.
 #include <vector>
 
@@ -18,6 +18,11 @@ struct WindowOptions {
   double max_shift_sigmas = 20;  ///< a result moving the newest keyframe farther than this
                                  ///< many of its tracked position's standard deviations
                                  ///< (and 1 cm) is discarded (0 = never)
+  int fixed_keyframes = 2;     ///< the oldest keyframes of the window held fixed (the gauge
+                               ///< and the anchor of the newer ones; at least 1)
+  double outlier_gate = 2.45;  ///< after half the iterations, an observation whose whitened
+                               ///< pixel or depth residual exceeds this leaves the problem
+                               ///< (sqrt of chi2(2 dof, 95 %) = 5.991; 0 = Huber only)
 
   template <class V>
   void visit(V& v) {
@@ -26,6 +31,9 @@ struct WindowOptions {
     v("min_observations", min_observations, 2, 64, "keyframes that must see a landmark for it to take part");
     v("max_shift_sigmas", max_shift_sigmas, 0.0, 1e6,
       "discard a result moving the newest keyframe beyond this many tracking standard deviations (0 = never)");
+    v("fixed_keyframes", fixed_keyframes, 1, 64, "oldest keyframes of the window held fixed");
+    v("outlier_gate", outlier_gate, 0.0, 1e6,
+      "whitened pixel or depth residual beyond which an observation leaves the window halfway (0 = Huber only)");
   }
 };
 
@@ -38,14 +46,16 @@ struct WindowObservation {
 };
 
 struct WindowProblem {
-  std::vector<Isometry> poses;              ///< T_camera_world per keyframe; poses[0] is held fixed
+  std::vector<Isometry> poses;              ///< T_camera_world per keyframe, oldest first; the first
+                                            ///< WindowOptions::fixed_keyframes are held fixed
   std::vector<Eigen::Vector3d> points;      ///< world positions
   std::vector<WindowObservation> observations;
 };
 
 struct WindowResult {
-  double initial_cost = 0, final_cost = 0;
+  double initial_cost = 0, final_cost = 0;  ///< final_cost over the observations kept by the gate
   int iterations = 0;
+  int outliers = 0;  ///< observations the gate removed
 };
 
 /// Whether a window result may replace the newest keyframe's tracked pose: the frame was
@@ -61,7 +71,8 @@ class WindowOptimizer {
       : options_(options), noise_(noise) {}
   const WindowOptions& options() const { return options_; }
 
-  /// Refines problem.poses[1..] and problem.points in place.
+  /// Refines the poses after the fixed ones and problem.points in place. Nothing moves
+  /// when the window holds no more poses than it fixes.
   WindowResult optimize(WindowProblem& problem, const PinholeCamera& camera) const;
 
  private:
