@@ -507,7 +507,7 @@ Isometry RgbdOdometry::optimizeWindow(const PinholeCamera& camera, double stamp,
   std::vector<int> per_keyframe(window_keyframes_.size(), 0);
   for (const auto& ob : problem.observations) ++per_keyframe[static_cast<size_t>(ob.keyframe)];
   const int min_per_keyframe = config_.odometry.min_static_inliers;
-  const size_t fixed = static_cast<size_t>(std::max(1, config_.window.fixed_keyframes));
+  const size_t fixed = window_.fixedPoses();
   if (problem.poses.size() <= fixed ||
       *std::min_element(per_keyframe.begin() + static_cast<long>(fixed), per_keyframe.end()) < min_per_keyframe)
     return window_keyframes_.back().T_world_kf;

@@ -64,17 +64,26 @@ Linearized linearize(const Isometry& T_cw, const Eigen::Vector3d& X, const Windo
 /// Per observation: 1 while it takes part (the outlier gate sets 0).
 using ActiveMask = std::vector<std::uint8_t>;
 
+/// Calls f(observation index, its linearisation) for every observation taking part.
+template <class F>
+void forEachActive(const WindowProblem& pb, const ActiveMask& active, const std::vector<Isometry>& poses,
+                   const std::vector<Eigen::Vector3d>& points, const PinholeCamera& camera,
+                   const RefinementOptions& noise, F&& f) {
+  for (size_t o = 0; o < pb.observations.size(); ++o) {
+    if (!active[o]) continue;
+    const auto& ob = pb.observations[o];
+    f(o, linearize(poses[static_cast<size_t>(ob.keyframe)], points[static_cast<size_t>(ob.landmark)], ob, camera,
+                   noise));
+  }
+}
+
 double totalCost(const WindowProblem& pb, const ActiveMask& active, const std::vector<Isometry>& poses,
                  const std::vector<Eigen::Vector3d>& points, const PinholeCamera& camera,
                  const RefinementOptions& noise) {
   double c = 0;
-  for (size_t o = 0; o < pb.observations.size(); ++o) {
-    if (!active[o]) continue;
-    const auto& ob = pb.observations[o];
-    const auto l = linearize(poses[static_cast<size_t>(ob.keyframe)], points[static_cast<size_t>(ob.landmark)], ob,
-                             camera, noise);
+  forEachActive(pb, active, poses, points, camera, noise, [&](size_t, const Linearized& l) {
     if (l.valid) c += l.cost;
-  }
+  });
   return c;
 }
 
@@ -95,12 +104,9 @@ NormalEquations buildNormalEquations(const WindowProblem& pb, const ActiveMask& 
   ne.H_ll.assign(pb.points.size(), Eigen::Matrix3d::Zero());
   ne.g_l.assign(pb.points.size(), Eigen::Vector3d::Zero());
   ne.H_pl.assign(pb.observations.size(), Mat63::Zero());
-  for (size_t o = 0; o < pb.observations.size(); ++o) {
-    if (!active[o]) continue;
+  forEachActive(pb, active, pb.poses, pb.points, camera, noise, [&](size_t o, const Linearized& l) {
+    if (!l.valid) return;
     const auto& ob = pb.observations[o];
-    const auto l = linearize(pb.poses[static_cast<size_t>(ob.keyframe)], pb.points[static_cast<size_t>(ob.landmark)],
-                             ob, camera, noise);
-    if (!l.valid) continue;
     const Eigen::Vector3d w(l.w_px, l.w_px, l.w_z);
     const Eigen::Matrix<double, 6, 3> JpT_W = l.J_pose.transpose() * w.asDiagonal();
     const Eigen::Matrix3d JlT_W = l.J_point.transpose() * w.asDiagonal();
@@ -110,25 +116,26 @@ NormalEquations buildNormalEquations(const WindowProblem& pb, const ActiveMask& 
     ne.H_ll[j] += JlT_W * l.J_point;
     ne.g_l[j] += JlT_W * l.r;
     ne.H_pl[o] = JpT_W * l.J_point;
-  }
+  });
   return ne;
 }
 
 /// Drops the observations whose whitened pixel pair or depth residual exceeds `gate`:
 /// wrong associations (a look-alike corner, a depth-edge flip) that Huber only damps
 /// still pull a window of a few keyframes off by centimetres (doc/odometry.md, ninth round).
+/// Returns how many it dropped; `kept_cost` is the cost of the others.
 int gateOutliers(const WindowProblem& pb, double gate, const PinholeCamera& camera, const RefinementOptions& noise,
-                 ActiveMask& active) {
+                 ActiveMask& active, double& kept_cost) {
   int removed = 0;
-  for (size_t o = 0; o < pb.observations.size(); ++o) {
-    if (!active[o]) continue;
-    const auto& ob = pb.observations[o];
-    const auto l = linearize(pb.poses[static_cast<size_t>(ob.keyframe)], pb.points[static_cast<size_t>(ob.landmark)],
-                             ob, camera, noise);
-    if (l.valid && l.r.head<2>().norm() <= gate && std::abs(l.r.z()) <= gate) continue;
+  kept_cost = 0;
+  forEachActive(pb, active, pb.poses, pb.points, camera, noise, [&](size_t o, const Linearized& l) {
+    if (l.valid && l.r.head<2>().norm() <= gate && std::abs(l.r.z()) <= gate) {
+      kept_cost += l.cost;
+      return;
+    }
     active[o] = 0;
     ++removed;
-  }
+  });
   return removed;
 }
 
@@ -146,7 +153,7 @@ WindowResult WindowOptimizer::optimize(WindowProblem& pb, const PinholeCamera& c
   const size_t num_poses = pb.poses.size();
   ActiveMask active(pb.observations.size(), 1);
   result.initial_cost = result.final_cost = totalCost(pb, active, pb.poses, pb.points, camera, noise_);
-  const size_t fixed = static_cast<size_t>(std::max(1, options_.fixed_keyframes));
+  const size_t fixed = fixedPoses();
   if (num_poses <= fixed || pb.points.empty()) return result;
   std::vector<std::vector<size_t>> obs_of_point(pb.points.size());
   for (size_t o = 0; o < pb.observations.size(); ++o)
@@ -158,8 +165,7 @@ WindowResult WindowOptimizer::optimize(WindowProblem& pb, const PinholeCamera& c
   for (int it = 0; it < options_.iterations; ++it) {
     // ORB-SLAM's two passes in one loop: Huber first, then without what the gate rejects.
     if (options_.outlier_gate > 0 && it == options_.iterations / 2) {
-      result.outliers += gateOutliers(pb, options_.outlier_gate, camera, noise_, active);
-      result.final_cost = totalCost(pb, active, pb.poses, pb.points, camera, noise_);
+      result.outliers += gateOutliers(pb, options_.outlier_gate, camera, noise_, active, result.final_cost);
     }
     const NormalEquations ne = buildNormalEquations(pb, active, camera, noise_);
     // Reduced camera system S dx = b after eliminating every landmark.

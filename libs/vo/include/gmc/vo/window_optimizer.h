@@ -3,6 +3,7 @@
 // observe, refined jointly on reprojection and depth residuals (Huber, then a chi2 gate),
 // the oldest poses held fixed. Gauss-Newton / Levenberg-Marquardt on Eigen with the landmarks eliminated
 // by the Schur complement (doc/odometry.md says why not Ceres). No I/O.
+#include <algorithm>
 #include <vector>
 
 #include "gmc/gmc/types.h"
@@ -70,6 +71,8 @@ class WindowOptimizer {
   explicit WindowOptimizer(const WindowOptions& options = {}, const RefinementOptions& noise = {})
       : options_(options), noise_(noise) {}
   const WindowOptions& options() const { return options_; }
+  /// Poses at the start of a problem that optimize() holds fixed (at least 1: the gauge).
+  size_t fixedPoses() const { return static_cast<size_t>(std::max(1, options_.fixed_keyframes)); }
 
   /// Refines the poses after the fixed ones and problem.points in place. Nothing moves
   /// when the window holds no more poses than it fixes.
