@@ -62,6 +62,17 @@ TEST(Ate, KnownOffsetGivesKnownError) {
   EXPECT_NEAR(ate.error.median, 0.01, 2e-4);
 }
 
+TEST(Ate, ScaledEstimateIsExplainedByTheSimilarityAlignment) {
+  const auto gt = circle(300, 5);
+  auto est = gt;
+  // 3 % too long: rigid alignment leaves an error, the similarity removes it all.
+  for (auto& p : est) p.pose.translation() *= 1.03;
+  const auto ate = computeAte(gt, est);
+  EXPECT_GT(ate.error.rmse, 1e-3);
+  EXPECT_NEAR(ate.scale, 1 / 1.03, 1e-9);
+  EXPECT_LT(ate.scaled_error.rmse, 1e-9);
+}
+
 TEST(Rpe, ConstantDriftPerSecond) {
   const auto gt = circle(301, 1e9);  // (almost) still, 10 s
   auto est = gt;
@@ -69,6 +80,17 @@ TEST(Rpe, ConstantDriftPerSecond) {
   const auto rpe = computeRpe(gt, est, 1.0);
   EXPECT_NEAR(rpe.translation.rmse, 0.02, 1e-3);  // 2 cm per second
   EXPECT_NEAR(rpe.translation.median, 0.02, 1e-3);
+}
+
+TEST(Rpe, RotationGainMeasuresHowMuchTheEstimateTurns) {
+  const auto gt = circle(301, 10);  // 36 deg per second about z
+  EXPECT_NEAR(computeRpe(gt, gt, 1.0).rotation_gain, 1.0, 1e-9);
+  auto est = gt;
+  for (auto& p : est) {
+    const double a = 2 * M_PI * (p.stamp - 100.0) / 10;  // circle()'s angle
+    p.pose.linear() = Eigen::AngleAxisd(1.06 * a, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  }
+  EXPECT_NEAR(computeRpe(gt, est, 1.0).rotation_gain, 1.06, 1e-3);
 }
 
 TEST(Ate, TooFewPairsGiveNoResult) {

@@ -60,8 +60,20 @@ AteResult computeAte(const std::vector<StampedPose>& gt, const std::vector<Stamp
     r.errors.push_back((aligned - data.col(static_cast<Eigen::Index>(k))).norm());
   }
   r.error = ErrorStats::of(r.errors);
+  const Eigen::Matrix4d similarity = Eigen::umeyama(model, data, true);
+  r.scale = similarity.block<3, 1>(0, 0).norm();
+  std::vector<double> scaled_errors;
+  for (Eigen::Index k = 0; k < model.cols(); ++k)
+    scaled_errors.push_back(((similarity * model.col(k).homogeneous()).head<3>() - data.col(k)).norm());
+  r.scaled_error = ErrorStats::of(scaled_errors);
   return r;
 }
+
+namespace {
+double angleDeg(const Isometry& T) {
+  return std::acos(std::clamp((T.linear().trace() - 1) / 2, -1.0, 1.0)) * 180.0 / M_PI;
+}
+}  // namespace
 
 RpeResult computeRpe(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est,
                      double delta) {
@@ -75,6 +87,7 @@ RpeResult computeRpe(const std::vector<StampedPose>& gt, const std::vector<Stamp
   std::nth_element(periods.begin(), periods.begin() + periods.size() / 2, periods.end());
   const double max_gt_dt = 2 * periods[periods.size() / 2];
   std::vector<double> trans, rot;
+  double gain_num = 0, gain_den = 0;
   for (size_t i = 0; i < es.size(); ++i) {
     const size_t j = closestIndex(es, es[i] + delta);
     if (j <= i || std::abs(es[j] - es[i] - delta) > delta / 2) continue;
@@ -84,9 +97,11 @@ RpeResult computeRpe(const std::vector<StampedPose>& gt, const std::vector<Stamp
     const Isometry d_gt = gt[g0].pose.inverse() * gt[g1].pose;
     const Isometry err = d_gt.inverse() * d_est;
     trans.push_back(err.translation().norm());
-    const double c = std::clamp((err.linear().trace() - 1) / 2, -1.0, 1.0);
-    rot.push_back(std::acos(c) * 180.0 / M_PI);
+    rot.push_back(angleDeg(err));
+    const double a_est = angleDeg(d_est), a_gt = angleDeg(d_gt);
+    gain_num += a_est * a_gt, gain_den += a_gt * a_gt;
   }
+  r.rotation_gain = gain_den > 0 ? gain_num / gain_den : std::nan("");
   r.pairs = trans.size();
   r.translation = ErrorStats::of(trans);
   r.rotation = ErrorStats::of(rot);
@@ -104,7 +119,9 @@ std::string evaluationJson(const AteResult& ate, const RpeResult& rpe) {
               {"mean", number(ate.error.mean)},
               {"median", number(ate.error.median)},
               {"max", number(ate.error.max)},
-              {"pairs", ate.pairs}};
+              {"pairs", ate.pairs},
+              {"scale", number(ate.scale)},
+              {"scaled_rmse", number(ate.scaled_error.rmse)}};
   // Per pose, so a user can see where along the run the error lives.
   auto& per_pose = j["ate"]["per_pose"] = nlohmann::ordered_json::array();
   for (size_t i = 0; i < ate.errors.size(); ++i) per_pose.push_back({number(ate.stamps[i]), number(ate.errors[i])});
@@ -112,6 +129,7 @@ std::string evaluationJson(const AteResult& ate, const RpeResult& rpe) {
               {"trans_median", number(rpe.translation.median)},
               {"rot_rmse", number(rpe.rotation.rmse)},
               {"rot_median", number(rpe.rotation.median)},
+              {"rotation_gain", number(rpe.rotation_gain)},
               {"pairs", rpe.pairs},
               {"delta_s", number(rpe.delta_s)}};
   return j.dump(2) + "\n";

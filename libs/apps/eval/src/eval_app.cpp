@@ -44,6 +44,9 @@ int EvalApp::run() {
   std::printf("RPE  1 s: trans rmse %.6f m  median %.6f  |  rot rmse %.4f deg  median %.4f  (%zu pairs)\n",
               rpe.translation.rmse, rpe.translation.median, rpe.rotation.rmse, rpe.rotation.median,
               rpe.pairs);
+  // Diagnostics, not benchmark figures (doc/evaluation.md).
+  std::printf("diag  ATE with scale %.6f m (scale %.4f)  |  rotation gain %.4f\n", ate.scaled_error.rmse, ate.scale,
+              rpe.rotation_gain);
   if (!json_.empty()) datasets::writeTextAtomic(json_, datasets::evaluationJson(ate, rpe));
   if (!plot_.empty())
     datasets::writeImageAtomic(plot_, datasets::plotTrajectory(ate, std::filesystem::path(est_).filename().string()));

@@ -2,6 +2,7 @@
 // Trajectory and mask metrics with the TUM RGB-D benchmark's definitions.
 #include <opencv2/core.hpp>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,12 @@ struct AteResult {
   std::vector<double> stamps;        ///< estimate stamps of the pairs
   std::vector<Eigen::Vector3d> gt_positions, aligned_positions;
   std::vector<double> errors;
+  /// Diagnostic, not the TUM figure: the same pairs aligned with a similarity (Umeyama
+  /// with scale, evo's --correct_scale). A scale far from 1 with a much smaller
+  /// scaled_error says the error is a trajectory too long or too short (depth scale),
+  /// not a wrong direction.
+  double scale = 1.0;
+  ErrorStats scaled_error;
 };
 AteResult computeAte(const std::vector<StampedPose>& groundtruth,
                      const std::vector<StampedPose>& estimate, double max_dt = 0.02);
@@ -35,6 +42,10 @@ struct RpeResult {
   ErrorStats rotation;               ///< deg
   size_t pairs = 0;
   double delta_s = 1.0;              ///< the delta the pairs were taken over (s)
+  /// Diagnostic: least-squares ratio of the estimate's turn angle to the ground truth's
+  /// over the same pairs. Invariant to a constant camera-to-marker rotation; away from 1
+  /// it says the estimate turns too much or too little (focal length, or the estimate).
+  double rotation_gain = std::nan("");
 };
 RpeResult computeRpe(const std::vector<StampedPose>& groundtruth,
                      const std::vector<StampedPose>& estimate, double delta = 1.0);
