@@ -19,6 +19,7 @@
 #include <mrpt/obs/TPixelLabelInfo.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include "gmc/apps/mapping_observers.h"
 #include "gmc/apps/rawlog_filter_app.h"
 #include "gmc/apps/rgbd_mapping_app.h"
 #include "gmc/datasets/evaluation.h"
@@ -80,6 +81,21 @@ TEST(RgbdMappingApp, RepeatPlaysTheInputAgainWithLaterStampsAndLogsMemory) {
   const std::string json((std::istreambuf_iterator<char>(summary)), std::istreambuf_iterator<char>());
   EXPECT_NE(json.find("\"peak_rss_mb\": "), std::string::npos);
   EXPECT_EQ(json.find("\"peak_rss_mb\": 0,"), std::string::npos);
+}
+
+TEST(GroundTruthScores, PosePointsOnPeopleCountOnlyTheRefinementsObservationsOfTrackedFrames) {
+  cv::Mat mask(480, 640, CV_8UC1, cv::Scalar(0));
+  mask(cv::Rect(100, 100, 50, 200)).setTo(255);  // a person
+  gmc::vo::FrameTracking t;
+  t.state = gmc::vo::TrackingState::Tracking;
+  t.keypoints = {{120, 150}, {400, 300}, {130, 250}, {500, 50}};
+  t.keypoint_in_pose = {1, 1, 0, 1};  // the third is on the person but held no pose
+  const auto n = gmc::apps::countPosePoints(t, mask);
+  EXPECT_EQ(n.points, 3u);
+  EXPECT_EQ(n.on_people, 1u);
+  EXPECT_NEAR(n.share(), 1.0 / 3.0, 1e-12);
+  t.state = gmc::vo::TrackingState::Lost;  // a predicted pose rests on nothing
+  EXPECT_EQ(gmc::apps::countPosePoints(t, mask).points, 0u);
 }
 
 TEST(RgbdMappingApp, TrackingLogHasEveryFramesStatePoseAndLostReason) {

@@ -94,6 +94,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   out.num_features = static_cast<int>(cur.size());
   for (const auto& kp : cur.keypoints) out.keypoints.push_back(kp.pt);
   out.keypoint_labels.assign(cur.size(), MotionLabel::Undecided);
+  out.keypoint_in_pose.assign(cur.size(), 0);
   out.times.frontend = msSince(t_start);
   if (!initialized_) {
     initialize(std::move(cur), stamp, out);
@@ -309,6 +310,7 @@ RefinementResult RgbdOdometry::refineOnBackground(const Isometry& T_world_guess,
     // flipped is background for the mask).
     if (track_.trust.weight[k] <= 0) continue;
     const auto& m = track_.motion[k];
+    out.keypoint_in_pose[cur_index] = 1;
     obs.push_back({map_[track_.landmark[k]].position, m.pixel.cast<double>(), m.point_cur.z(),
                    track_.trust.weight[k]});
     max_weight = std::max(max_weight, track_.trust.weight[k]);

@@ -151,6 +151,19 @@ void OverlayWriter::onFrame(const FrameEvent& e) {
                              drawOverlay(e.source.frame, e.tracking, e.dynamic_mask, truth));
 }
 
+PosePoints countPosePoints(const vo::FrameTracking& t, const cv::Mat& mask) {
+  PosePoints n;
+  if (t.state != vo::TrackingState::Tracking) return n;
+  for (std::size_t i = 0; i < t.keypoint_in_pose.size() && i < t.keypoints.size(); ++i) {
+    if (!t.keypoint_in_pose[i]) continue;
+    const int u = std::clamp(static_cast<int>(t.keypoints[i].x + 0.5f), 0, mask.cols - 1);
+    const int v = std::clamp(static_cast<int>(t.keypoints[i].y + 0.5f), 0, mask.rows - 1);
+    ++n.points;
+    n.on_people += mask.at<std::uint8_t>(v, u) > 0;
+  }
+  return n;
+}
+
 GroundTruthScorer::GroundTruthScorer(TruthMasks& truth, const mapping::StaticMapOptions& map_options,
                                      std::vector<datasets::StampedPose> groundtruth, bool score_map)
     : truth_(truth), max_range_(map_options.max_range), groundtruth_(std::move(groundtruth)) {
@@ -168,6 +181,7 @@ void GroundTruthScorer::onFrame(const FrameEvent& e) {
     const bool on_person = mask.at<std::uint8_t>(static_cast<int>(kp.y + 0.5f), static_cast<int>(kp.x + 0.5f)) > 0;
     keypoints_.add(t.keypoint_labels[i] == MotionLabel::Dynamic, on_person);
   }
+  pose_points_ += countPosePoints(t, mask);
   // Pixels the map could insert: depth within its range.
   const auto max_raw = static_cast<std::uint16_t>(std::min(65535.0, max_range_ / frame.depth_units));
   for (int v = 0; v < frame.depth.rows; ++v) {
@@ -188,6 +202,7 @@ void GroundTruthScorer::onEnd(PipelineReport& report, const mapping::StaticMapBu
   report.has_mask_score = true;
   report.mask_score = keypoints_;
   report.pixel_mask_score = pixels_;
+  report.pose_points = pose_points_;
   if (!voxels_ || !map) return;
   report.map_quality = voxels_->evaluate(map->tree());
   report.has_map_quality = true;

@@ -129,6 +129,9 @@ std::string PipelineReport::toJson() const {
   if (has_mask_score) {
     j["dynamic_matches_vs_masks"] = score(mask_score);
     j["dynamic_pixels_vs_masks"] = score(pixel_mask_score);
+    j["pose_points_vs_masks"] = {{"points", pose_points.points},
+                                 {"on_people", pose_points.on_people},
+                                 {"share_on_people", pose_points.share()}};
   }
   return j.dump(2) + "\n";
 }
@@ -168,7 +171,10 @@ std::string PipelineReport::toText() const {
     os << "  dynamic matches vs ground-truth masks: precision " << mask_score.precision()
        << "  recall " << mask_score.recall() << "\n"
        << "  dynamic mask pixels vs ground-truth masks: precision " << pixel_mask_score.precision()
-       << "  recall " << pixel_mask_score.recall() << "\n";
+       << "  recall " << pixel_mask_score.recall() << "\n"
+       << "  pose points on people (ground-truth masks): " << pose_points.on_people << " of "
+       << pose_points.points << " (" << std::fixed << std::setprecision(1) << 100.0 * pose_points.share()
+       << " %)\n" << std::defaultfloat << std::setprecision(6);
   return os.str();
 }
 

@@ -3,6 +3,7 @@
 // the matches GMC labels static. One call per frame; no I/O.
 #include <opencv2/core.hpp>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -115,6 +116,9 @@ struct FrameTracking {
   /// Current keypoints and their labels (Undecided when unmatched), for overlays/masks.
   std::vector<cv::Point2f> keypoints;
   std::vector<MotionLabel> keypoint_labels;
+  /// 1 where the keypoint's observation went into the pose refinement (static, trusted);
+  /// with ground-truth masks it tells how much of the pose rests on people.
+  std::vector<std::uint8_t> keypoint_in_pose;
   GmcResult gmc;                        ///< cells and clusters of this frame (vs the map)
   GmcResult gmc_previous;               ///< the same against the previous frame (masks)
 

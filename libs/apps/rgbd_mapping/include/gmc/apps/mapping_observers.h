@@ -34,6 +34,11 @@ class FrameObserver {
 };
 using Observers = std::vector<std::unique_ptr<FrameObserver>>;
 
+/// Of a tracked frame's pose points (`keypoint_in_pose`), how many lie on a person in
+/// the ground-truth `mask` (255 on people). Lost frames count nothing: their pose is a
+/// prediction.
+PosePoints countPosePoints(const vo::FrameTracking& tracking, const cv::Mat& mask);
+
 /// The simulator's ground-truth mask of the current frame (masks/<stamp>.png), read at
 /// most once per frame however many observers ask.
 class TruthMasks {
@@ -90,6 +95,7 @@ class GroundTruthScorer : public FrameObserver {
   std::vector<datasets::StampedPose> groundtruth_;
   std::unique_ptr<mapping::GroundTruthVoxels> voxels_;
   datasets::BinaryScore keypoints_, pixels_;
+  PosePoints pose_points_;
 };
 
 /// memory.csv / memory.png: resident memory, heap in use and map nodes every N frames.

@@ -23,6 +23,16 @@ double peakResidentMemoryMb();
 /// memory minus this is the allocator's retained free memory, not a leak.
 double heapInUseMb();
 
+/// Pose observations against ground-truth masks (simulated input).
+struct PosePoints {
+  std::size_t points = 0, on_people = 0;
+  double share() const { return points ? static_cast<double>(on_people) / static_cast<double>(points) : 0.0; }
+  PosePoints& operator+=(const PosePoints& o) {
+    points += o.points, on_people += o.on_people;
+    return *this;
+  }
+};
+
 struct PipelineReport {
   size_t frames = 0, tracked = 0, lost = 0, reanchored = 0, keyframes = 0;
   size_t lost_pose_undetermined = 0;  ///< lost although enough inliers: pose not determined
@@ -62,6 +72,9 @@ struct PipelineReport {
   /// The per-pixel dynamic mask handed to the map vs the ground-truth masks, over the
   /// pixels with depth (what the map could insert).
   datasets::BinaryScore pixel_mask_score;
+  /// The observations that held tracked poses, and those on people: standing people are
+  /// static while they stand, and a pose resting on them moves when they sway.
+  PosePoints pose_points;
 
   /// One frame through the chain and odometry; `pipeline_ms`: its time on that stage.
   void addFrame(const vo::FrameTracking& t, double pipeline_ms);
