@@ -197,6 +197,25 @@ TEST(Scenarios, HoveringCameraMovesAsLittleAsTheBonnCamera) {
   EXPECT_EQ(hover.people.pause_max, walking.people.pause_max);
 }
 
+// crowd_hover is stop_and_go_hover's hovering camera, room and sensor with Bonn's three
+// people, who never stand: its poses rest on the furniture, as Bonn's (doc/sim.md).
+TEST(Scenarios, CrowdHoverFilmsThreePeopleWhoNeverStand) {
+  const SimOptions o = scenario("crowd_hover"), hover = scenario("stop_and_go_hover");
+  EXPECT_EQ(o.people.walkers, 3);
+  EXPECT_EQ(o.trajectory.style, hover.trajectory.style);
+  EXPECT_EQ(o.trajectory.amplitude, hover.trajectory.amplitude);
+  EXPECT_EQ(o.trajectory.rotation, hover.trajectory.rotation);
+  EXPECT_EQ(o.sensor.disparity_step, hover.sensor.disparity_step);
+  EXPECT_EQ(o.room.floor, hover.room.floor);
+  const Simulator sim(o);
+  const double dt = 1.0 / o.simulator.fps;
+  for (int i = 0; i < 300; ++i) {
+    const auto a = sim.peoplePositions(i * dt), b = sim.peoplePositions((i + 1) * dt);
+    ASSERT_EQ(a.size(), 3u);
+    for (size_t k = 0; k < a.size(); ++k) ASSERT_GT((b[k] - a[k]).norm(), 1e-4) << "walker " << k << " frame " << i;
+  }
+}
+
 // Real people who stop are never still: they shift their weight, turn and gesture, a few
 // millimetres per frame, slow enough to pass a per-frame motion test as background (the
 // Bonn crowd's standing people do). With fidget the standing walker's silhouette changes
