@@ -11,20 +11,22 @@ figures of doc/odometry.md ("Per-frame translation noise") come from:
   python3 scripts/frame_steps.py /tmp/s/trajectory_tum.txt $D/bonn_crowd_240_389/groundtruth.txt --gt-frame bonn
 
 It also prints the per-frame step error: |estimated step - true step|, both in their own
-camera frame (so it needs the camera's orientation: Bonn's marker poses are converted
-with --gt-frame bonn as gmc-eval does), its median by thirds of the true rotation rate
+camera frame (so it needs the camera's orientation: with --gt-frame bonn, gmc-eval
+converts Bonn's marker poses and hands them over with --gt-out), its median by thirds of the true rotation rate
 and its correlation with it (a rolling shutter's error would grow with the rate;
 doc/odometry.md, tenth round).
 """
+import argparse
 import bisect
 import math
+import os
 import statistics
+import subprocess
 import sys
+import tempfile
 
-
-def read_tum(path):
-    with open(path) as f:
-        return [[float(v) for v in line.split()[:8]] for line in f if line.strip() and not line.startswith('#')]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from window_eval import read_tum  # noqa: E402
 
 
 def quat_matrix(q):
@@ -34,45 +36,16 @@ def quat_matrix(q):
             [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
 
 
-def matmul(a, b):
-    return [[sum(a[i][k] * b[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
-
-
-def matrix_quat(m):
-    """Quaternion (x, y, z, w) of a rotation matrix (Shepperd's method)."""
-    t = m[0][0] + m[1][1] + m[2][2]
-    if t > 0:
-        r = 2 * math.sqrt(t + 1)
-        return [(m[2][1] - m[1][2]) / r, (m[0][2] - m[2][0]) / r, (m[1][0] - m[0][1]) / r, r / 4]
-    i = max(range(3), key=lambda k: m[k][k])
-    j, k = (i + 1) % 3, (i + 2) % 3
-    r = 2 * math.sqrt(1 + m[i][i] - m[j][j] - m[k][k])
-    q = [0.0] * 4
-    q[i], q[j], q[k], q[3] = r / 4, (m[j][i] + m[i][j]) / r, (m[k][i] + m[i][k]) / r, (m[k][j] - m[j][k]) / r
-    return q
-
-
-def bonn_to_camera(rows):
-    """gmc::datasets::bonnBodyToCamera: ros * body * ros * marker, the published marker
-    rotation made orthonormal (its polar factor, by the iteration R = (R + R^-T) / 2)."""
-    r = [[1.0157, 0.1828, -0.2389], [0.0009, -0.8431, -0.6413], [-0.3009, 0.6147, -0.8085]]
-    t_marker = [0.0113, -0.0098, 0.0111]
-    for _ in range(50):
-        (a, b, c), (d, e, f), (g, h, i) = r
-        det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
-        inv_t = [[(e * i - f * h) / det, (f * g - d * i) / det, (d * h - e * g) / det],
-                 [(c * h - b * i) / det, (a * i - c * g) / det, (b * g - a * h) / det],
-                 [(b * f - c * e) / det, (c * d - a * f) / det, (a * e - b * d) / det]]
-        r = [[(r[u][v] + inv_t[u][v]) / 2 for v in range(3)] for u in range(3)]
-    ros = [[-1, 0, 0], [0, 0, 1], [0, 1, 0]]
-    out = []
-    for row in rows:
-        body = quat_matrix(row[4:8])
-        rot = matmul(matmul(matmul(ros, body), ros), r)
-        lever = [sum(body[u][v] * sum(ros[v][w] * t_marker[w] for w in range(3)) for v in range(3)) for u in range(3)]
-        pos = [sum(ros[u][v] * (row[1 + v] + lever[v]) for v in range(3)) for u in range(3)]
-        out.append([row[0]] + pos + matrix_quat(rot))
-    return out
+def camera_ground_truth(args):
+    """The ground truth as camera poses: Bonn's marker poses converted by gmc-eval itself
+    (--gt-out), so the conversion lives in one place (gmc::datasets::bonnBodyToCamera)."""
+    if args.gt_frame == 'camera':
+        return read_tum(args.gt)
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, 'gt.txt')
+        subprocess.run([os.path.join(args.bin, 'gmc-eval'), '--gt', args.gt, '--gt-frame', args.gt_frame,
+                        '--est', args.est, '--gt-out', out], check=True, stdout=subprocess.DEVNULL)
+        return read_tum(out)
 
 
 def camera_step(a, b):
@@ -87,10 +60,13 @@ def angle_deg(q1, q2):
 
 
 def main():
-    args = [a for a in sys.argv[1:] if a not in ('--gt-frame', 'bonn', 'camera')]
-    est, gt = read_tum(args[0]), read_tum(args[1])
-    if 'bonn' in sys.argv[1:]:
-        gt = bonn_to_camera(gt)
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument('est', help='estimated trajectory (TUM format)')
+    p.add_argument('gt', help='ground truth (TUM format)')
+    p.add_argument('--gt-frame', choices=('camera', 'bonn'), default='camera', help="as gmc-eval's --gt-frame")
+    p.add_argument('--bin', default='build/bin', help='where gmc-eval is (for --gt-frame bonn)')
+    args = p.parse_args()
+    est, gt = read_tum(args.est), camera_ground_truth(args)
     stamps = [g[0] for g in gt]
 
     def nearest(s):

@@ -64,4 +64,26 @@ TEST(EvalApp, BonnGroundTruthFrame) {
   EXPECT_GT(std::stod(printed.substr(printed.find("rot rmse ", first_rpe + 1) + 9)), 3.0) << printed;
 }
 
+// --gt-out writes the ground truth as compared: Bonn's marker poses converted to the
+// camera, so scripts need no copy of the conversion (scripts/frame_steps.py).
+TEST(EvalApp, GroundTruthOutIsTheConvertedGroundTruth) {
+  const auto out = gmc::testdata::scratchDir("eval_app_gt_out");
+  std::ofstream(out + "/gt.txt") << "1.0 0.1 0.2 0.3 0 0 0 1\n1.1 0.2 0.2 0.3 0.1 0 0 0.99498744\n"
+                                    "1.2 0.3 0.1 0.3 0 0.2 0 0.9797959\n1.3 0.4 0.1 0.2 0 0 0.3 0.9539392\n";
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runEval({"--gt", out + "/gt.txt", "--est", out + "/gt.txt", "--gt-frame", "bonn", "--gt-out",
+                     out + "/camera.txt"}),
+            0);
+  testing::internal::GetCapturedStdout();
+  const auto expected = gmc::datasets::readGroundTruth(out + "/gt.txt", "bonn");
+  const auto written = gmc::datasets::readTumTrajectory(out + "/camera.txt");
+  ASSERT_EQ(written.size(), expected.size());
+  for (size_t i = 0; i < written.size(); ++i) {
+    EXPECT_NEAR(written[i].stamp, expected[i].stamp, 1e-6);
+    EXPECT_LT((written[i].pose.matrix() - expected[i].pose.matrix()).cwiseAbs().maxCoeff(), 1e-6) << i;
+  }
+  // The marker frame is not the camera frame: the conversion did something.
+  EXPECT_GT((written[1].pose.translation() - Eigen::Vector3d(0.2, 0.2, 0.3)).norm(), 0.01);
+}
+
 }  // namespace

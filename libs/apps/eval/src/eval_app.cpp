@@ -10,7 +10,8 @@
 namespace gmc::apps {
 namespace {
 const char* kUsage =
-    "usage: gmc-eval --gt FILE --est FILE [--gt-frame camera|bonn] [--json OUT.json] [--plot OUT.png]";
+    "usage: gmc-eval --gt FILE --est FILE [--gt-frame camera|bonn] [--json OUT.json] [--plot OUT.png] "
+    "[--gt-out OUT.txt]";
 }
 
 void EvalApp::initialize(const std::vector<std::string>& args) {
@@ -23,10 +24,12 @@ void EvalApp::initialize(const std::vector<std::string>& args) {
                                         &frame_names, line.cmd());
   TCLAP::ValueArg<std::string> json("", "json", "write the figures as JSON", false, "", "OUT.json", line.cmd());
   TCLAP::ValueArg<std::string> plot("", "plot", "write a trajectory plot", false, "", "OUT.png", line.cmd());
+  TCLAP::ValueArg<std::string> gt_out("", "gt-out", "write the ground truth as compared (camera poses, TUM format)",
+                                      false, "", "OUT.txt", line.cmd());
   line.parse(args);
   if (gt.getValue().empty() || est.getValue().empty()) line.fail("--gt and --est are required");
   gt_ = gt.getValue(), est_ = est.getValue(), gt_frame_ = gt_frame.getValue();
-  json_ = json.getValue(), plot_ = plot.getValue();
+  json_ = json.getValue(), plot_ = plot.getValue(), gt_out_ = gt_out.getValue();
 }
 
 int EvalApp::run() {
@@ -47,6 +50,7 @@ int EvalApp::run() {
   // Diagnostics, not benchmark figures (doc/evaluation.md).
   std::printf("diag  ATE with scale %.6f m (scale %.4f)  |  rotation gain %.4f\n", ate.scaled_error.rmse, ate.scale,
               rpe.rotation_gain);
+  if (!gt_out_.empty()) datasets::writeTumTrajectory(gt_out_, gt);
   if (!json_.empty()) datasets::writeTextAtomic(json_, datasets::evaluationJson(ate, rpe));
   if (!plot_.empty())
     datasets::writeImageAtomic(plot_, datasets::plotTrajectory(ate, std::filesystem::path(est_).filename().string()));
