@@ -26,14 +26,8 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from error_profile import rotation  # noqa: E402
 from window_eval import read_tum  # noqa: E402
-
-
-def quat_matrix(q):
-    x, y, z, w = q
-    return [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
 
 
 def camera_ground_truth(args):
@@ -50,7 +44,7 @@ def camera_ground_truth(args):
 
 def camera_step(a, b):
     """b's position in a's camera frame (m)."""
-    m = quat_matrix(a[4:8])
+    m = rotation(a[4:8])
     d = [b[k] - a[k] for k in (1, 2, 3)]
     return [sum(m[j][i] * d[j] for j in range(3)) for i in range(3)]
 
