@@ -219,4 +219,28 @@ TEST(LandmarkMap, BeyondMaxLandmarksTheLeastRecentlySeenGo) {
     }
 }
 
+// What a re-anchor keeps for the rejoin: the landmarks not seen moving, evidence and all;
+// moved into another frame and adopted by a map, they keep their evidence.
+TEST(LandmarkMap, LandmarksLeftAtAReanchorKeepTheirEvidenceWhenTakenBack) {
+  LandmarkMap map;
+  const auto ids = addWall(map, 20);
+  std::vector<int> visible(ids);
+  for (int frame = 1; frame <= 45; ++frame)
+    map.observe(observeAll(map, Isometry::Identity(), {3}, Eigen::Vector3d(0.3, 0, 0), MotionLabel::Dynamic),
+                visible, Isometry::Identity(), frame / 30.0, {});
+  ASSERT_EQ(map.evidence(3, 1.5), Evidence::Suspect);
+  const auto kept = map.landmarksNotSeenMoving(1.5);
+  EXPECT_EQ(kept.size(), 19u);  // all but the walker's
+  Isometry T_new_old = Isometry::Identity();
+  T_new_old.linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  T_new_old.translation() = Eigen::Vector3d(0.1, -0.2, 0.3);
+  const Eigen::Vector3d before = map[0].position;
+  map.transform(T_new_old);
+  EXPECT_LT((map[0].position - T_new_old * before).norm(), 1e-12);
+  LandmarkMap other;
+  other.adopt(kept);
+  ASSERT_EQ(other.size(), kept.size());
+  for (int id = 0; id < static_cast<int>(other.size()); ++id) EXPECT_EQ(other.evidence(id, 1.5), Evidence::Static) << id;
+}
+
 }  // namespace

@@ -5,9 +5,7 @@
 #include <cmath>
 
 namespace gmc::vo {
-namespace {
 
-/// Rigid transform mapping src onto dst (least squares, no scale).
 bool fitRigid(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst, Isometry& T) {
   if (src.cols() < 3) return false;
   const Eigen::Matrix4d M = Eigen::umeyama(src, dst, false);
@@ -15,6 +13,8 @@ bool fitRigid(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst, Isometry
   T.matrix() = M;
   return true;
 }
+
+namespace {
 
 bool similar(const Isometry& a, const Isometry& b) {
   const Isometry d = a.inverse() * b;

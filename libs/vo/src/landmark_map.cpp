@@ -55,6 +55,21 @@ void LandmarkMap::view(const Isometry& T_world_camera, const PinholeCamera& came
                 landmarks_[static_cast<size_t>(out.ids[k])].descriptor.data(), 32);
 }
 
+std::vector<Landmark> LandmarkMap::landmarksNotSeenMoving(double stamp) const {
+  std::vector<Landmark> out;
+  for (size_t i = 0; i < landmarks_.size(); ++i)
+    if (evidence(static_cast<int>(i), stamp) != Evidence::Suspect) out.push_back(landmarks_[i]);
+  return out;
+}
+
+void LandmarkMap::transform(const Isometry& T_new_old) {
+  for (auto& l : landmarks_) l.position = T_new_old * l.position;
+}
+
+void LandmarkMap::adopt(const std::vector<Landmark>& landmarks) {
+  landmarks_.insert(landmarks_.end(), landmarks.begin(), landmarks.end());
+}
+
 std::vector<std::pair<int, int>> LandmarkMap::addFeatures(const features::FeatureSet& features,
                                           const std::vector<std::uint8_t>& matched,
                                           const std::vector<MotionLabel>& labels,

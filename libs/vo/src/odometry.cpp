@@ -67,6 +67,8 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
       keyframe_policy_(config.keyframes),
       window_(config.window, config.refinement),
       map_(config.local_map),
+      rejoin_(config.rejoin, config.refinement,
+              InPlaceThreshold{config.background.inlier_base, config.background.inlier_per_m2}),
       gmc_previous_(config.gmc) {}
 
 Isometry RgbdOdometry::predictPose() const {
@@ -130,6 +132,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   out.times.refine += msSince(t0);
   const bool after_lost_frames = lost_streak_ > 0;
   decideTracking(refined, orthonormalized(refined.T_cur_ref).inverse(), choice_.trustworthy, T_world_pred, out);
+  if (out.state == TrackingState::Tracking && rejoin_.active()) tryRejoin(cur, camera, stamp, out);
 
   // 5. Labels for the mask from the previous frame; dynamic memory.
   if (!previous_matches_.empty() && config_.odometry.previous_frame_labels)
@@ -423,17 +426,18 @@ void RgbdOdometry::updateMap(const features::FeatureSet& cur, double stamp, Fram
     out.state = TrackingState::Reanchored;
     velocity_ = Isometry::Identity();
     lost_streak_ = 0;
-    if (config_.keyframes.reanchor_new_map) startNewMap(cur);
+    if (config_.keyframes.reanchor_new_map) startNewMap(cur, stamp);
   }
   out.new_keyframe = true;
   addKeyframe(cur, stamp, out);
 }
 
-void RgbdOdometry::startNewMap(const features::FeatureSet& cur) {
+void RgbdOdometry::startNewMap(const features::FeatureSet& cur, double stamp) {
   // A frame that cannot seed a map keeps the old one: it may still be found again.
   int with_depth = 0;
   for (size_t i = 0; i < cur.size(); ++i) with_depth += cur.hasDepth(static_cast<int>(i)) ? 1 : 0;
   if (with_depth < config_.odometry.min_matches) return;
+  rejoin_.freeze(map_.landmarksNotSeenMoving(stamp), stamp);
   map_.clear();
   window_keyframes_.clear();
   pose_landmarks_.clear();
@@ -442,6 +446,23 @@ void RgbdOdometry::startNewMap(const features::FeatureSet& cur) {
   track_.cur_index.clear();
   track_.landmark.clear();
   track_.matched.assign(cur.size(), 0);
+}
+
+void RgbdOdometry::tryRejoin(const features::FeatureSet& cur, const PinholeCamera& camera, double stamp,
+                             FrameTracking& out) {
+  const auto t0 = Clock::now();  // descriptor matching, mostly: counted with the frontend
+  const std::optional<Isometry> T_old_new = rejoin_.attempt(frontend_, cur, out.T_world_camera, camera, stamp);
+  out.times.frontend += msSince(t0);
+  if (!T_old_new) return;
+  // Everything of the new map moves; velocities are relative and stay.
+  out.T_world_camera = orthonormalized(*T_old_new * out.T_world_camera);
+  T_world_last_ = *T_old_new * T_world_last_;
+  T_world_previous_ = *T_old_new * T_world_previous_;
+  for (auto& kf : window_keyframes_) kf.T_world_kf = *T_old_new * kf.T_world_kf;
+  keyframe_policy_.transform(*T_old_new);
+  map_.transform(*T_old_new);
+  map_.adopt(rejoin_.release());
+  out.rejoined = true;
 }
 
 void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, const FrameTracking& out) {

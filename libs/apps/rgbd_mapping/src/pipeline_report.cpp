@@ -61,6 +61,7 @@ void PipelineReport::addFrame(const vo::FrameTracking& t, double pipeline_ms) {
   if (t.background_untrusted) ++lost_background_untrusted;
   if (t.new_keyframe) ++keyframes;
   if (t.window_discarded) ++windows_discarded;
+  if (t.rejoined) ++rejoined;
   static_matches += static_cast<size_t>(t.num_static);
   dynamic_matches += static_cast<size_t>(t.num_dynamic);
   frontend_ms.push_back(t.times.frontend);
@@ -108,7 +109,7 @@ std::string PipelineReport::toJson() const {
             {"lost_background_untrusted", lost_background_untrusted},
             {"reanchored", reanchored},  {"dropped", dropped},
             {"skipped", skipped},        {"keyframes", keyframes},
-            {"windows_discarded", windows_discarded},
+            {"windows_discarded", windows_discarded}, {"rejoined", rejoined},
             {"map_inserts", map_inserts}, {"map_skipped", map_skipped},
             {"interrupted", interrupted}, {"wall_seconds", wall_seconds},
             {"peak_rss_mb", peak_rss_mb}, {"fps", wall_seconds > 0 ? frames / wall_seconds : 0.0},
@@ -140,8 +141,8 @@ std::string PipelineReport::toText() const {
   std::ostringstream os;
   os << std::fixed << std::setprecision(2);
   os << "frames " << frames << "  tracked " << tracked << "  lost " << lost << "  dropped "
-     << dropped << "  skipped " << skipped << "  keyframes " << keyframes
-     << "  map skipped " << map_skipped << (interrupted ? "  (interrupted)" : "") << "\n";
+     << dropped << "  skipped " << skipped << "  keyframes " << keyframes << "  re-anchored " << reanchored
+     << "  rejoined " << rejoined << "  map skipped " << map_skipped << (interrupted ? "  (interrupted)" : "") << "\n";
   auto line = [&](const char* name, const std::vector<double>& v) {
     const auto p = Percentiles::of(v);
     os << "  " << std::left << std::setw(11) << name << std::right << std::setw(8) << p.median

@@ -41,6 +41,9 @@ struct BackgroundOptions {
   }
 };
 
+/// Rigid transform mapping src onto dst (least squares, no scale); false below 3 points.
+bool fitRigid(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst, Isometry& T);
+
 /// Per match: how far its landmark is trusted (0 suspect .. 1 static evidence), and
 /// whether it has static evidence.
 struct MatchTrust {

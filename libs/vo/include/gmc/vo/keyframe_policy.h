@@ -71,6 +71,9 @@ class KeyframePolicy {
 
   KeyframeDecision decide(const KeyframeFrame& frame);
 
+  /// The map moved into another world frame (a rejoin): so does the keyframe.
+  void transform(const Isometry& T_new_old) { T_world_kf_ = T_new_old * T_world_kf_; }
+
  private:
   KeyframeOptions options_;
   Isometry T_world_kf_ = Isometry::Identity();

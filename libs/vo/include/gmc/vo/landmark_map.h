@@ -121,6 +121,13 @@ class LandmarkMap {
   void observe(const std::vector<LandmarkObservation>& observations, const std::vector<int>& visible,
                const Isometry& T_world_camera, double stamp, const InPlaceThreshold& threshold);
 
+  /// The live landmarks not suspect at `stamp`, young or static (kept when a map is left).
+  std::vector<Landmark> landmarksNotSeenMoving(double stamp) const;
+  /// Moves every landmark into another world frame: p <- T_new_old * p.
+  void transform(const Isometry& T_new_old);
+  /// Appends landmarks as they are (positions in this map's frame, evidence kept).
+  void adopt(const std::vector<Landmark>& landmarks);
+
   /// Moves a landmark (windowed optimisation).
   void setPosition(int id, const Eigen::Vector3d& p) { landmarks_[static_cast<size_t>(id)].position = p; }
 

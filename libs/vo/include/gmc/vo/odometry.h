@@ -12,6 +12,7 @@
 #include "gmc/vo/background.h"
 #include "gmc/vo/keyframe_policy.h"
 #include "gmc/vo/landmark_map.h"
+#include "gmc/vo/map_rejoin.h"
 #include "gmc/vo/pose_refinement.h"
 #include "gmc/vo/window_optimizer.h"
 
@@ -72,6 +73,7 @@ struct OdometryConfig {
   BackgroundOptions background;        ///< [Background]
   KeyframeOptions keyframes;           ///< [Keyframes]
   WindowOptions window;                ///< [Window]
+  RejoinOptions rejoin;                ///< [Rejoin]
 };
 
 /// Milliseconds spent per stage for one frame.
@@ -97,6 +99,8 @@ struct FrameTracking {
   bool background_untrusted = false;    ///< Lost: the static landmarks disagree with every hypothesis
   bool new_keyframe = false;
   bool window_discarded = false;        ///< the windowed optimisation's result was implausible
+  bool rejoined = false;                ///< this frame found the map left at a re-anchor: its
+                                        ///< pose and the map moved back into that map's frame
   double window_shift = 0;              ///< m the windowed optimisation moved this keyframe
                                         ///< (also when discarded; 0 when it did not run)
   int map_landmarks = 0;                ///< live landmarks in the local map
@@ -172,8 +176,12 @@ class RgbdOdometry {
                       const Isometry& T_world_pred, FrameTracking& out);
   void updateMap(const features::FeatureSet& cur, double stamp, FrameTracking& out);
   void addKeyframe(const features::FeatureSet& cur, double stamp, const FrameTracking& out);
-  /// Re-anchoring: the old landmarks and window go, the keyframe seeds a new map.
-  void startNewMap(const features::FeatureSet& cur);
+  /// Re-anchoring: the old landmarks and window go (the static ones wait in rejoin_),
+  /// the keyframe seeds a new map.
+  void startNewMap(const features::FeatureSet& cur, double stamp);
+  /// A tracked frame of a new map looks for the old one; found, everything moves back
+  /// into the old world frame.
+  void tryRejoin(const features::FeatureSet& cur, const PinholeCamera& camera, double stamp, FrameTracking& out);
   /// Windowed optimisation over the last keyframes; returns the newest keyframe's pose
   /// (unchanged, and out.window_discarded set, when the result is implausible).
   Isometry optimizeWindow(const PinholeCamera& camera, double stamp, FrameTracking& out);
@@ -195,6 +203,7 @@ class RgbdOdometry {
   KeyframePolicy keyframe_policy_;
   WindowOptimizer window_;
   LandmarkMap map_;
+  MapRejoin rejoin_;
   MapTrack track_;                      ///< reused per frame
   BackgroundChoice choice_;             ///< reused per frame
   features::FeatureSet previous_;       ///< last frame's features (shared descriptor data)

@@ -1,0 +1,164 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "gmc/vo/map_rejoin.h"
+
+namespace {
+
+using gmc::Isometry;
+using gmc::vo::Landmark;
+using gmc::vo::MapRejoin;
+using gmc::vo::RejoinAttempt;
+using gmc::vo::RejoinOptions;
+
+const gmc::PinholeCamera kCamera{};  // TUM fr3, 640x480
+
+std::array<std::uint8_t, 32> randomDescriptor(std::mt19937& rng) {
+  std::array<std::uint8_t, 32> d{};
+  for (auto& b : d) b = static_cast<std::uint8_t>(rng() & 0xff);
+  return d;
+}
+
+/// n landmarks of a room 2-4 m in front of the old world's origin, each with its own
+/// descriptor (random 256 bits: any two differ by about 128).
+std::vector<Landmark> room(int n, std::mt19937& rng) {
+  std::uniform_real_distribution<double> x(-1.5, 1.5), y(-1.0, 1.0), z(2.0, 4.0);
+  std::vector<Landmark> out(static_cast<size_t>(n));
+  for (auto& l : out) {
+    l.position = Eigen::Vector3d(x(rng), y(rng), z(rng));
+    l.descriptor = randomDescriptor(rng);
+    l.hits_in_place = 10;
+  }
+  return out;
+}
+
+/// A camera at T_old_cur (old world frame) seeing the landmarks, plus `clutter` features
+/// of their own and `walkers` copies of landmark descriptors 0.5 m from where the
+/// landmarks are (what a walker or a look-alike corner offers).
+gmc::features::FeatureSet frame(const std::vector<Landmark>& landmarks, const Isometry& T_old_cur, int clutter,
+                                int walkers, std::mt19937& rng) {
+  gmc::features::FeatureSet f;
+  f.width = kCamera.width;
+  f.height = kCamera.height;
+  std::vector<std::array<std::uint8_t, 32>> descriptors;
+  auto add = [&](const Eigen::Vector3d& p_cur, const std::array<std::uint8_t, 32>& d) {
+    if (p_cur.z() <= 0.3) return;
+    const Eigen::Vector2d uv = kCamera.project(p_cur);
+    if (!kCamera.inside(uv.x(), uv.y())) return;
+    f.keypoints.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()), 7.f);
+    f.points.push_back(p_cur);
+    descriptors.push_back(d);
+  };
+  const Isometry T_cur_old = T_old_cur.inverse();
+  for (const auto& l : landmarks) add(T_cur_old * l.position, l.descriptor);
+  std::uniform_real_distribution<double> x(-1.0, 1.0), z(1.5, 4.0);
+  for (int i = 0; i < clutter; ++i) add(Eigen::Vector3d(x(rng), x(rng), z(rng)), randomDescriptor(rng));
+  for (int i = 0; i < walkers && i < static_cast<int>(landmarks.size()); ++i)
+    add(T_cur_old * (landmarks[static_cast<size_t>(i)].position + Eigen::Vector3d(0.5, 0, 0)),
+        landmarks[static_cast<size_t>(i)].descriptor);
+  f.descriptors.create(static_cast<int>(descriptors.size()), 32, CV_8UC1);
+  for (size_t i = 0; i < descriptors.size(); ++i)
+    std::memcpy(f.descriptors.ptr<std::uint8_t>(static_cast<int>(i)), descriptors[i].data(), 32);
+  return f;
+}
+
+Isometry pose(double yaw_deg, const Eigen::Vector3d& t) {
+  Isometry T = Isometry::Identity();
+  T.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  T.translation() = t;
+  return T;
+}
+
+// The new map's frame is off the old one by a drift of 0.2 m and 12 degrees (what the
+// prediction drifts over a lost second). Among walkers and clutter, the old landmarks
+// give the correction back, but only once a second attempt, from another view, agrees.
+TEST(MapRejoin, FindsTheOldFrameOnceTwoAttemptsAgree) {
+  std::mt19937 rng(7);
+  const auto landmarks = room(300, rng);
+  MapRejoin rejoin(RejoinOptions{}, gmc::vo::RefinementOptions{}, gmc::vo::InPlaceThreshold{});
+  rejoin.freeze(landmarks, 10.0);
+  ASSERT_TRUE(rejoin.active());
+  const Isometry T_new_old = pose(12, {0.2, 0.0, -0.1});
+  const gmc::features::Frontend frontend;
+  RejoinAttempt first, second;
+  const Isometry T_old_a = pose(3, {0.05, 0, 0.1}), T_old_b = pose(5, {0.08, 0.01, 0.12});
+  const auto a = rejoin.attempt(frontend, frame(landmarks, T_old_a, 150, 60, rng), T_new_old * T_old_a, kCamera,
+                                10.5, &first);
+  EXPECT_FALSE(a.has_value());
+  EXPECT_GT(first.inliers, 100);
+  const auto b = rejoin.attempt(frontend, frame(landmarks, T_old_b, 150, 60, rng), T_new_old * T_old_b, kCamera,
+                                10.6, &second);
+  ASSERT_TRUE(b.has_value());
+  EXPECT_TRUE(second.confirmed);
+  const Isometry error = *b * T_new_old;  // identity when the correction is T_old_new
+  EXPECT_LT(error.translation().norm(), 1e-3);
+  EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle(), 1e-3);
+  EXPECT_EQ(rejoin.release().size(), landmarks.size());
+  EXPECT_FALSE(rejoin.active());
+}
+
+// Matches with no common correction (each frame offers the old descriptors at new random
+// places, as a repeated texture would) never move the map.
+TEST(MapRejoin, MatchesWithoutACommonCorrectionNeverRejoin) {
+  std::mt19937 rng(3);
+  const auto landmarks = room(300, rng);
+  MapRejoin rejoin(RejoinOptions{}, gmc::vo::RefinementOptions{}, gmc::vo::InPlaceThreshold{});
+  rejoin.freeze(landmarks, 0.0);
+  const gmc::features::Frontend frontend;
+  for (int k = 0; k < 10; ++k) {
+    auto shuffled = landmarks;
+    for (auto& l : shuffled) l.position = room(1, rng)[0].position;
+    EXPECT_FALSE(rejoin.attempt(frontend, frame(shuffled, Isometry::Identity(), 100, 0, rng), Isometry::Identity(),
+                                kCamera, 0.1 * k)
+                     .has_value())
+        << k;
+  }
+}
+
+TEST(MapRejoin, EveryNthTrackedFrameAttemptsAndTheOldMapIsGivenUpInTime) {
+  std::mt19937 rng(5);
+  const auto landmarks = room(200, rng);
+  RejoinOptions options;
+  options.every_frames = 3;
+  options.max_seconds = 2.0;
+  MapRejoin rejoin(options, gmc::vo::RefinementOptions{}, gmc::vo::InPlaceThreshold{});
+  rejoin.freeze(landmarks, 1.0);
+  const gmc::features::Frontend frontend;
+  const auto seen = frame(landmarks, Isometry::Identity(), 0, 0, rng);
+  std::vector<int> matched;
+  for (int k = 0; k < 6; ++k) {
+    RejoinAttempt r;
+    rejoin.attempt(frontend, seen, pose(20, {0.3, 0, 0}), kCamera, 1.1 + 0.1 * k, &r);
+    matched.push_back(r.matches);
+  }
+  EXPECT_GT(matched[0], 100);
+  EXPECT_EQ(matched[1], 0);
+  EXPECT_EQ(matched[2], 0);
+  EXPECT_GT(matched[3], 100);
+  EXPECT_TRUE(rejoin.active());
+  rejoin.attempt(frontend, seen, Isometry::Identity(), kCamera, 3.5);
+  EXPECT_FALSE(rejoin.active());
+}
+
+// A second re-anchor while the first map is still waiting keeps the first: it is the
+// frame the trajectory started in. Too few landmarks to ever agree are not kept.
+TEST(MapRejoin, KeepsTheOldestMapAndNoneTooSmallToAgree) {
+  std::mt19937 rng(9);
+  const auto first = room(50, rng), second = room(80, rng);
+  MapRejoin rejoin(RejoinOptions{}, gmc::vo::RefinementOptions{}, gmc::vo::InPlaceThreshold{});
+  rejoin.freeze(room(RejoinOptions{}.min_inliers - 1, rng), 0.0);
+  EXPECT_FALSE(rejoin.active());
+  rejoin.freeze(first, 1.0);
+  rejoin.freeze(second, 2.0);
+  const auto kept = rejoin.release();
+  ASSERT_EQ(kept.size(), first.size());
+  EXPECT_EQ(kept[0].descriptor, first[0].descriptor);
+  RejoinOptions off;
+  off.enabled = false;
+  MapRejoin disabled(off, gmc::vo::RefinementOptions{}, gmc::vo::InPlaceThreshold{});
+  disabled.freeze(first, 1.0);
+  EXPECT_FALSE(disabled.active());
+}
+
+}  // namespace
