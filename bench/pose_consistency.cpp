@@ -11,7 +11,10 @@
 //
 // --focal-scales re-runs the comparison with fx, fy multiplied by each factor (backprojection
 // and projection alike): the factor that fits a trajectory best is the focal length that
-// trajectory implies. --rotation-from takes the relative rotations from another trajectory
+// trajectory implies. Each line is followed by a fit of the depth ratio (measured in frame
+// i+lag against predicted from frame i) to the change of the normalised image radius^2
+// between the two views: a radial depth bias k of the sensor (z (1 + k r^2)) shows as the
+// slope. --rotation-from takes the relative rotations from another trajectory
 // (translations stay from <poses.txt>): which part of a trajectory the images disagree with. Diagnostic for doc/odometry.md (the Bonn over-turn), not a benchmark.
 #include <Eigen/Geometry>
 #include <opencv2/features2d.hpp>
@@ -106,6 +109,13 @@ int run(const Args& args) {
     gmc::PinholeCamera cam = camera;
     cam.fx *= scale, cam.fy *= scale;
     std::vector<double> p20, p40, within, depth40;
+    // Depth against where in the image a point is seen: z_measured = z (1 + k r^2) makes
+    // z_b / z_b(predicted from a) - 1 = c + k (r_b^2 - r_a^2) on consistent matches.
+    double sxx = 0, sx = 0, sy = 0, sxy = 0, n_fit = 0;
+    auto radius2 = [&](const cv::Point2f& p) {
+      const double x = (p.x - cam.cx) / cam.fx, y = (p.y - cam.cy) / cam.fy;
+      return x * x + y * y;
+    };
     for (size_t i = 0; i + args.lag < frames.size(); ++i) {
       const Frame &a = frames[i], &b = frames[i + args.lag];
       if (!a.pose || !b.pose || !a.rotation_pose || !b.rotation_pose || a.descriptors.empty() ||
@@ -124,7 +134,12 @@ int run(const Args& args) {
         if (in_b.z() < 0.1) continue;
         px.push_back((cam.project(in_b) - Eigen::Vector2d(ub.x, ub.y)).norm());
         const double zb = b.depth.at<std::uint16_t>(cvRound(ub.y), cvRound(ub.x)) * b.depth_units;
-        if (zb > 0.3) dz.push_back(std::abs(zb - in_b.z()));
+        if (zb <= 0.3) continue;
+        dz.push_back(std::abs(zb - in_b.z()));
+        const double ratio = zb / in_b.z() - 1;
+        if (px.back() > 3 || std::abs(ratio) > 0.1) continue;  // walkers, wrong matches
+        const double x = radius2(ub) - radius2(ua);
+        sxx += x * x, sx += x, sy += ratio, sxy += x * ratio, ++n_fit;
       }
       if (px.size() < 30) continue;
       p20.push_back(percentile(px, 20));
@@ -135,6 +150,10 @@ int run(const Args& args) {
     }
     std::printf("%-8.3f %8zu %10.3f %10.3f %10.3f %12.4f\n", scale, p20.size(), percentile(p20, 50),
                 percentile(p40, 50), percentile(within, 50), percentile(depth40, 50));
+    const double det = n_fit * sxx - sx * sx;
+    if (n_fit > 100 && det > 0)
+      std::printf("         depth vs image radius: z_b / z_b(predicted) - 1 = %.4f + %.4f (r_b^2 - r_a^2), %.0f matches\n",
+                  (sy * sxx - sx * sxy) / det, (n_fit * sxy - sx * sy) / det, n_fit);
   }
   return 0;
 }

@@ -3,6 +3,10 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
 namespace gmc::datasets {
 
 Undistorter::Undistorter(const PinholeCamera& camera, const LensDistortion& d)
@@ -19,6 +23,21 @@ void Undistorter::apply(RgbdFrame& frame) {
   cv::remap(frame.depth, depth, map_x_, map_y_, cv::INTER_NEAREST, cv::BORDER_CONSTANT);
   frame.rgb = rgb;
   frame.depth = depth;
+}
+
+void removeRadialDepthBias(RgbdFrame& frame, double k) {
+  if (k == 0 || frame.depth.empty()) return;
+  const PinholeCamera& c = frame.camera;
+  for (int v = 0; v < frame.depth.rows; ++v) {
+    auto* row = frame.depth.ptr<std::uint16_t>(v);
+    const double y = (v - c.cy) / c.fy;
+    for (int u = 0; u < frame.depth.cols; ++u) {
+      if (row[u] == 0) continue;
+      const double x = (u - c.cx) / c.fx;
+      const double corrected = row[u] / (1.0 + k * (x * x + y * y));
+      row[u] = static_cast<std::uint16_t>(std::clamp(std::lround(corrected), 1L, 65535L));
+    }
+  }
 }
 
 }  // namespace gmc::datasets

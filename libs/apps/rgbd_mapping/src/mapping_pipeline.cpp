@@ -1,5 +1,7 @@
 #include "gmc/apps/mapping_pipeline.h"
 
+#include "gmc/datasets/undistort.h"
+
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -105,6 +107,7 @@ bool FrameReader::readNext(SourceFrame& out) {
       continue;
     }
     if (!have) return false;
+    datasets::removeRadialDepthBias(out.frame, options_.depth_radial_bias);
     if (pass_first_stamp_ < 0) pass_first_stamp_ = out.frame.stamp;
     else frame_interval_ = std::max(1e-3, out.frame.stamp - last_stamp_);
     last_stamp_ = out.frame.stamp;

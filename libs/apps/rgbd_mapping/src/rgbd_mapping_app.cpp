@@ -165,7 +165,7 @@ MappingRun::MappingRun(const PipelineConfig& config, filters::FilterChain chain,
       realtime_(config.playback.mode == "realtime"),
       reader_({input, config.camera, config.dataset.repeat, config.dataset.first_frame, realtime_,
                config.playback.rate, static_cast<std::size_t>(config.playback.frame_queue), config.sensors,
-               config.distortion, config.output.filtered_rawlog},
+               config.distortion, config.dataset.depth_radial_bias, config.output.filtered_rawlog},
               stop, start_) {
   namespace fs = std::filesystem;
   if (!gt_path_.empty()) groundtruth_ = datasets::readGroundTruth(gt_path_, config.dataset.groundtruth_frame);

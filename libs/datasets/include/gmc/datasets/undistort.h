@@ -1,5 +1,6 @@
 #pragma once
-// Removing lens distortion from registered RGB-D frames (TUM fr1/fr2).
+// Removing lens distortion from registered RGB-D frames (TUM fr1/fr2), and a depth
+// sensor's radial depth bias (Bonn's Xtion).
 #include <opencv2/core.hpp>
 
 #include "gmc/datasets/camera.h"
@@ -23,5 +24,11 @@ class Undistorter {
   cv::Size size_;
   cv::Mat map_x_, map_y_;
 };
+
+/// A structured-light sensor that reads depth z as z (1 + k r^2), r^2 the squared
+/// normalised image radius ((u - cx) / fx)^2 + ((v - cy) / fy)^2: every reading is divided
+/// by (1 + k r^2) in place (k = 0: nothing). Bonn's Xtion reads the image corners 7 % short
+/// (k = -0.14; doc/datasets.md).
+void removeRadialDepthBias(RgbdFrame& frame, double k);
 
 }  // namespace gmc::datasets

@@ -75,6 +75,7 @@ class FrameReader {
     std::size_t queue_capacity = 4;
     datasets::SensorSelection sensors;   ///< the camera to track ([Filters] sensor_label)
     datasets::LensDistortion distortion;  ///< removed from TUM folders' frames
+    double depth_radial_bias = 0;        ///< removed from every frame's depth (undistort.h)
     bool pass_objects = false;           ///< keep every rawlog object for takeObjectsUpTo()
   };
   /// A rawlog object read, tagged with the index of the frame read after it.

@@ -26,6 +26,7 @@ struct DatasetOptions {
   std::string groundtruth_frame = "camera";  ///< or "bonn": marker-body poses, converted
   bool anchor_to_groundtruth = false;  ///< start the trajectory at the ground-truth pose
   std::string undistort = "auto";  ///< auto: TUM's published distortion for fr1/fr2; none
+  double depth_radial_bias = 0;    ///< k of a depth read as z (1 + k r^2), divided back out
   int repeat = 1;              ///< play the input this many times (long-run tests); later
                                ///< passes get stamps shifted past the previous pass
 
@@ -38,6 +39,9 @@ struct DatasetOptions {
     v("cy", cy, 0.0, 1e5, "custom principal point y (px)");
     v.choice("undistort", undistort, {"auto", "none"},
              "auto: remove the lens distortion TUM publishes for fr1/fr2 (folders); none: use images as they are");
+    v("depth_radial_bias", depth_radial_bias, -0.5, 0.5,
+      "k of the sensor's radial depth bias (depth read as z (1 + k r^2), r the normalised image radius); "
+      "every reading is divided by (1 + k r^2); 0 = none (doc/datasets.md)");
     v("max_frames", max_frames, 0, 100000000, "process at most this many frames (0 = all)");
     v("first_frame", first_frame, 0, 100000000, "skip this many frames first");
     v("groundtruth", groundtruth, "TUM ground truth file, 'auto', or empty");
