@@ -629,6 +629,7 @@ cv::Mat Simulator::projectorShadows(const cv::Mat& depth) const {
 /// The Kinect-like sensor model on the noise-free depth (reads neighbouring rows).
 cv::Mat Simulator::sensorDepth(const View& view, int index) const {
   const auto& so = options_.sensor;
+  const auto& co = options_.camera;
   const int W = view.depth.cols, H = view.depth.rows;
   cv::Mat depth = cv::Mat::zeros(H, W, CV_16UC1);
   const cv::Mat shadow = projectorShadows(view.depth);
@@ -653,6 +654,10 @@ cv::Mat Simulator::sensorDepth(const View& view, int index) const {
         if (so.depth_noise) {
           const std::uint64_t h = hash(seed, static_cast<std::uint64_t>(index), static_cast<std::uint64_t>(v * W + u), 2);
           z += (0.0012 + 0.0019 * (z - 0.4) * (z - 0.4)) * gaussian(h);
+        }
+        if (so.depth_radial_bias != 0) {
+          const double x = (u - co.cx) / co.fx, y = (v - co.cy) / co.fy;
+          z *= 1 + so.depth_radial_bias * (x * x + y * y);
         }
         if (so.quantize) z = 1.0 / (std::round((1.0 / z) / so.disparity_step) * so.disparity_step);
         depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(std::clamp(std::lround(z * 5000.0), 0L, 65535L));

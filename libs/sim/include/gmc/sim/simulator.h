@@ -122,6 +122,8 @@ struct SensorOptions {
   double projector_baseline = 0;  ///< m, IR projector right of the camera: shadows (0 = off)
   double exposure = 0;            ///< s, motion blur: colour integrated over this (0 = off)
   int blur_samples = 4;           ///< renders averaged over the exposure
+  double depth_radial_bias = 0;   ///< k: depth read as z (1 + k r^2), r the normalised image
+                                  ///< radius (Bonn's Xtion: -0.14; doc/datasets.md)
   template <class V>
   void visit(V& v) {
     v("depth_noise", depth_noise, "Kinect-like depth noise");
@@ -136,6 +138,8 @@ struct SensorOptions {
       "m, projector offset: no depth where the projector's pattern is shadowed (0 = off)");
     v("exposure", exposure, 0.0, 0.1, "s, motion blur exposure (0 = sharp)");
     v("blur_samples", blur_samples, 2, 32, "renders averaged over the exposure");
+    v("depth_radial_bias", depth_radial_bias, -0.5, 0.5,
+      "k of a radial depth bias: depth read as z (1 + k r^2), r the normalised image radius (Bonn's Xtion -0.14)");
   }
 };
 
