@@ -32,6 +32,7 @@
 #include "gmc/datasets/camera.h"
 #include "gmc/datasets/source.h"
 #include "gmc/datasets/tum.h"
+#include "tool_main.h"
 #include "gmc/vo/odometry.h"
 
 namespace {
@@ -191,14 +192,4 @@ int run(const Args& args) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(parseArgs(argc, argv));
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "calibration_stats: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "calibration_stats: %s\n", e.what());
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return toolMain("calibration_stats", argc, argv, parseArgs, run); }

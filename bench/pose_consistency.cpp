@@ -30,6 +30,7 @@
 #include "gmc/datasets/camera.h"
 #include "gmc/datasets/source.h"
 #include "gmc/datasets/tum.h"
+#include "tool_main.h"
 
 namespace {
 
@@ -160,14 +161,4 @@ int run(const Args& args) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  try {
-    return run(parseArgs(argc, argv));
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "pose_consistency: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "pose_consistency: %s\n", e.what());
-    return 1;
-  }
-}
+int main(int argc, char** argv) { return toolMain("pose_consistency", argc, argv, parseArgs, run); }
