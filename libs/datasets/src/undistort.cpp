@@ -25,19 +25,29 @@ void Undistorter::apply(RgbdFrame& frame) {
   frame.depth = depth;
 }
 
-void removeRadialDepthBias(RgbdFrame& frame, double k) {
-  if (k == 0 || frame.depth.empty()) return;
+void RadialDepthBias::apply(RgbdFrame& frame) {
+  if (k_ == 0 || frame.depth.empty()) return;
   const PinholeCamera& c = frame.camera;
-  for (int v = 0; v < frame.depth.rows; ++v) {
-    auto* row = frame.depth.ptr<std::uint16_t>(v);
-    const double y = (v - c.cy) / c.fy;
-    for (int u = 0; u < frame.depth.cols; ++u) {
-      if (row[u] == 0) continue;
-      const double x = (u - c.cx) / c.fx;
-      const double corrected = row[u] / (1.0 + k * (x * x + y * y));
-      row[u] = static_cast<std::uint16_t>(std::clamp(std::lround(corrected), 1L, 65535L));
+  if (factor_.size() != frame.depth.size() || c.fx != camera_.fx || c.fy != camera_.fy || c.cx != camera_.cx ||
+      c.cy != camera_.cy) {
+    camera_ = c;
+    factor_.create(frame.depth.size(), CV_64F);
+    for (int v = 0; v < factor_.rows; ++v) {
+      const double y = (v - c.cy) / c.fy;
+      for (int u = 0; u < factor_.cols; ++u) {
+        const double x = (u - c.cx) / c.fx;
+        factor_.at<double>(v, u) = 1.0 + k_ * (x * x + y * y);
+      }
     }
   }
+  for (int v = 0; v < frame.depth.rows; ++v) {
+    auto* row = frame.depth.ptr<std::uint16_t>(v);
+    const double* f = factor_.ptr<double>(v);
+    for (int u = 0; u < frame.depth.cols; ++u)
+      if (row[u]) row[u] = static_cast<std::uint16_t>(std::clamp(std::lround(row[u] / f[u]), 1L, 65535L));
+  }
 }
+
+void removeRadialDepthBias(RgbdFrame& frame, double k) { RadialDepthBias(k).apply(frame); }
 
 }  // namespace gmc::datasets

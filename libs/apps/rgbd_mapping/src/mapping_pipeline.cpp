@@ -1,7 +1,5 @@
 #include "gmc/apps/mapping_pipeline.h"
 
-#include "gmc/datasets/undistort.h"
-
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -19,6 +17,7 @@ FrameReader::FrameReader(Options options, const std::atomic<bool>& stop, Clock::
       stop_(stop),
       start_(start),
       source_(datasets::openRgbdSource(options_.input, options_.camera, options_.sensors, options_.distortion)),
+      depth_bias_(options_.depth_radial_bias),
       size_hint_(source_->sizeHint()),
       queue_(options_.queue_capacity) {
   if (options_.pass_objects) source_->setObjectSink(&objects_);
@@ -107,7 +106,7 @@ bool FrameReader::readNext(SourceFrame& out) {
       continue;
     }
     if (!have) return false;
-    datasets::removeRadialDepthBias(out.frame, options_.depth_radial_bias);
+    depth_bias_.apply(out.frame);
     if (pass_first_stamp_ < 0) pass_first_stamp_ = out.frame.stamp;
     else frame_interval_ = std::max(1e-3, out.frame.stamp - last_stamp_);
     last_stamp_ = out.frame.stamp;

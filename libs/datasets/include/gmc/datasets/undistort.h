@@ -28,7 +28,19 @@ class Undistorter {
 /// A structured-light sensor that reads depth z as z (1 + k r^2), r^2 the squared
 /// normalised image radius ((u - cx) / fx)^2 + ((v - cy) / fy)^2: every reading is divided
 /// by (1 + k r^2) in place (k = 0: nothing). Bonn's Xtion reads the image corners 7 % short
-/// (k = -0.14; doc/datasets.md).
+/// (k = -0.14; doc/datasets.md). The factors are computed once per camera and image size.
+class RadialDepthBias {
+ public:
+  explicit RadialDepthBias(double k = 0) : k_(k) {}
+  void apply(RgbdFrame& frame);
+
+ private:
+  double k_;
+  PinholeCamera camera_;
+  cv::Mat factor_;  ///< CV_64F, 1 + k r^2 per pixel
+};
+
+/// The same, once (tests, tools).
 void removeRadialDepthBias(RgbdFrame& frame, double k);
 
 }  // namespace gmc::datasets

@@ -26,6 +26,7 @@
 #include "gmc/datasets/frame.h"
 #include "gmc/datasets/rawlog_stream.h"
 #include "gmc/datasets/source.h"
+#include "gmc/datasets/undistort.h"
 #include "gmc/mapping/static_map.h"
 
 namespace gmc::apps {
@@ -130,6 +131,7 @@ class FrameReader {
   const std::atomic<bool>& stop_;
   Clock::time_point start_;
   std::unique_ptr<datasets::RgbdSource> source_;
+  datasets::RadialDepthBias depth_bias_;  ///< used by the reader thread only
   ObjectLog objects_;
   std::size_t size_hint_ = 0;
   BoundedQueue<SourceFrame> queue_;
