@@ -15,7 +15,10 @@
 // i+lag against predicted from frame i) to the change of the normalised image radius^2
 // between the two views: a radial depth bias k of the sensor (z (1 + k r^2)) shows as the
 // slope. --rotation-from takes the relative rotations from another trajectory
-// (translations stay from <poses.txt>): which part of a trajectory the images disagree with. Diagnostic for doc/odometry.md (the Bonn over-turn), not a benchmark.
+// (translations stay from <poses.txt>); on a hovering camera rotation and sideways
+// translation trade against each other, so such a mix fits worse than either (Bonn:
+// 4-11 px) and does not single out the part that is wrong. Diagnostic for
+// doc/odometry.md (the Bonn over-turn), not a benchmark.
 #include <Eigen/Geometry>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -40,7 +43,9 @@ struct Args {
   std::vector<double> focal_scales{1.0};
 };
 
-const char* kUsage = "usage: pose_consistency <tum_dir> <poses.txt> [--camera P] [--lag K] [--focal-scales a,b,...] [--rotation-from other_poses.txt]";
+const char* kUsage =
+    "usage: pose_consistency <tum_dir> <poses.txt> [--camera P] [--lag K] [--focal-scales a,b,...] "
+    "[--rotation-from other_poses.txt]";
 
 Args parseArgs(int argc, char** argv) {
   Args a;

@@ -93,9 +93,9 @@ TEST(Undistort, RadialDepthBiasIsRemovedAcrossTheImage) {
   f.depth.at<std::uint16_t>(10, 10) = 0;
   const cv::Mat recorded = f.depth.clone();
   EXPECT_LT(recorded.at<std::uint16_t>(0, 0), 0.94 * 15000);  // the corner reads short
-  removeRadialDepthBias(f, 0.0);
+  RadialDepthBias(0.0).apply(f);
   EXPECT_EQ(cv::countNonZero(f.depth != recorded), 0);
-  removeRadialDepthBias(f, k);
+  RadialDepthBias(k).apply(f);
   double worst = 0;
   for (int v = 0; v < 480; ++v)
     for (int u = 0; u < 640; ++u)

@@ -48,6 +48,4 @@ void RadialDepthBias::apply(RgbdFrame& frame) {
   }
 }
 
-void removeRadialDepthBias(RgbdFrame& frame, double k) { RadialDepthBias(k).apply(frame); }
-
 }  // namespace gmc::datasets

@@ -14,6 +14,34 @@ bool fitRigid(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst, Isometry
   return true;
 }
 
+std::uint64_t Xorshift64::next() {
+  state_ ^= state_ >> 12;
+  state_ ^= state_ << 25;
+  state_ ^= state_ >> 27;
+  return state_ * 2685821657736338717ull;
+}
+
+Isometry ransacRigid(const std::vector<int>& pool, int iterations, Xorshift64& rng,
+                     const std::function<Eigen::Vector3d(int)>& src, const std::function<Eigen::Vector3d(int)>& dst,
+                     const std::function<double(const Isometry&)>& score, const Isometry& fallback) {
+  Isometry best_T = fallback;
+  double best = -1;
+  Eigen::Matrix3Xd a(3, 3), b(3, 3);
+  if (pool.size() < 3) iterations = 0;
+  for (int it = 0; it < iterations; ++it) {
+    int idx[3];
+    for (int& k : idx) k = pool[rng.next() % pool.size()];
+    if (idx[0] == idx[1] || idx[0] == idx[2] || idx[1] == idx[2]) continue;
+    for (int k = 0; k < 3; ++k) a.col(k) = src(idx[k]), b.col(k) = dst(idx[k]);
+    if ((a.col(1) - a.col(0)).cross(a.col(2) - a.col(0)).norm() < 1e-3) continue;
+    Isometry T;
+    if (!fitRigid(a, b, T)) continue;
+    const double s = score(T);
+    if (s > best) best = s, best_T = T;
+  }
+  return best_T;
+}
+
 namespace {
 
 bool similar(const Isometry& a, const Isometry& b) {
@@ -25,13 +53,6 @@ bool similar(const Isometry& a, const Isometry& b) {
 
 BackgroundSelector::BackgroundSelector(const BackgroundOptions& options, const GmcParams& gmc)
     : options_(options), gmc_(gmc) {}
-
-std::uint64_t BackgroundSelector::nextRandom() {  // xorshift64*: deterministic, cheap
-  rng_state_ ^= rng_state_ >> 12;
-  rng_state_ ^= rng_state_ << 25;
-  rng_state_ ^= rng_state_ >> 27;
-  return rng_state_ * 2685821657736338717ull;
-}
 
 bool BackgroundSelector::inlier(const MotionMatch& m, const Isometry& T, double scale) const {
   const double z = m.point_cur.z();
@@ -49,29 +70,10 @@ double BackgroundSelector::support(const std::vector<MotionMatch>& matches, cons
 
 Isometry BackgroundSelector::ransac(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
                                    const std::vector<int>& pool, const Isometry& fallback) {
-  Isometry best_T = fallback;
-  double best = -1;
-  Eigen::Matrix3Xd src(3, 3), dst(3, 3);
-  const int iterations = pool.size() < 3 ? 0 : options_.ransac_iterations;
-  for (int it = 0; it < iterations; ++it) {
-    int idx[3];
-    for (int k = 0; k < 3; ++k) idx[k] = pool[nextRandom() % pool.size()];
-    if (idx[0] == idx[1] || idx[0] == idx[2] || idx[1] == idx[2]) continue;
-    for (int k = 0; k < 3; ++k) {
-      src.col(k) = matches[static_cast<size_t>(idx[k])].point_cur;
-      dst.col(k) = matches[static_cast<size_t>(idx[k])].point_ref;
-    }
-    // Degenerate (nearly collinear) samples give unstable rotations.
-    if ((src.col(1) - src.col(0)).cross(src.col(2) - src.col(0)).norm() < 1e-3) continue;
-    Isometry T;
-    if (!fitRigid(src, dst, T)) continue;
-    const double s = support(matches, weight, T);
-    if (s > best) {
-      best = s;
-      best_T = T;
-    }
-  }
-  return best_T;
+  return ransacRigid(
+      pool, options_.ransac_iterations, rng_, [&](int i) { return matches[static_cast<size_t>(i)].point_cur; },
+      [&](int i) { return matches[static_cast<size_t>(i)].point_ref; },
+      [&](const Isometry& T) { return support(matches, weight, T); }, fallback);
 }
 
 Isometry BackgroundSelector::polish(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,

@@ -4,8 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-
-#include "gmc/vo/background.h"
+#include <numeric>
 
 namespace gmc::vo {
 
@@ -95,28 +94,12 @@ std::optional<Isometry> MapRejoin::correction(const features::Frontend& frontend
     }
     return count;
   };
-  auto next_random = [this] {  // xorshift64*: deterministic
-    rng_state_ ^= rng_state_ >> 12;
-    rng_state_ ^= rng_state_ << 25;
-    rng_state_ ^= rng_state_ >> 27;
-    return rng_state_ * 2685821657736338717ull;
-  };
-  Isometry best = Isometry::Identity();
-  int best_count = -1;
-  Eigen::Matrix3Xd src(3, 3), dst(3, 3);
-  for (int it = 0; it < options_.ransac_iterations; ++it) {
-    int idx[3];
-    for (int& k : idx) k = static_cast<int>(next_random() % static_cast<std::uint64_t>(n));
-    if (idx[0] == idx[1] || idx[1] == idx[2] || idx[0] == idx[2]) continue;
-    for (int c = 0; c < 3; ++c) {
-      src.col(c) = cur_points[static_cast<size_t>(idx[c])];
-      dst.col(c) = old_points[static_cast<size_t>(idx[c])];
-    }
-    Isometry T;
-    if (!fitRigid(src, dst, T)) continue;
-    const int count = inliers_of(T, nullptr);
-    if (count > best_count) best_count = count, best = T;
-  }
+  std::vector<int> all(static_cast<size_t>(n));
+  std::iota(all.begin(), all.end(), 0);
+  const Isometry best = ransacRigid(
+      all, options_.ransac_iterations, rng_, [&](int i) { return cur_points[static_cast<size_t>(i)]; },
+      [&](int i) { return old_points[static_cast<size_t>(i)]; },
+      [&](const Isometry& T) { return static_cast<double>(inliers_of(T, nullptr)); }, Isometry::Identity());
   std::vector<int> inliers;
   r.inliers = inliers_of(best, &inliers);
   if (r.inliers < options_.min_inliers) return std::nullopt;

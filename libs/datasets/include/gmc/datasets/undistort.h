@@ -40,7 +40,5 @@ class RadialDepthBias {
   cv::Mat factor_;  ///< CV_64F, 1 + k r^2 per pixel
 };
 
-/// The same, once (tests, tools).
-void removeRadialDepthBias(RgbdFrame& frame, double k);
 
 }  // namespace gmc::datasets

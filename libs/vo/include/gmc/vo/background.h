@@ -7,6 +7,7 @@
 // walker makes the walker's young landmarks "static" and the long-lived ones "dynamic",
 // and loses. No I/O.
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "gmc/gmc/gmc.h"
@@ -43,6 +44,25 @@ struct BackgroundOptions {
 
 /// Rigid transform mapping src onto dst (least squares, no scale); false below 3 points.
 bool fitRigid(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst, Isometry& T);
+
+/// xorshift64*: deterministic, cheap random numbers for RANSAC sampling.
+class Xorshift64 {
+ public:
+  explicit Xorshift64(std::uint64_t seed) : state_(seed) {}
+  std::uint64_t next();
+
+ private:
+  std::uint64_t state_;
+};
+
+/// 3-point RANSAC for dst(i) ~ T * src(i) over the correspondences `pool`: `iterations`
+/// samples (skipped when an index repeats or the three source points are nearly
+/// collinear, which gives unstable rotations), each fitted by fitRigid and scored by
+/// `score`. The first best-scoring T, or `fallback` when no sample was usable (or the
+/// pool has fewer than three).
+Isometry ransacRigid(const std::vector<int>& pool, int iterations, Xorshift64& rng,
+                     const std::function<Eigen::Vector3d(int)>& src, const std::function<Eigen::Vector3d(int)>& dst,
+                     const std::function<double(const Isometry&)>& score, const Isometry& fallback);
 
 /// Per match: how far its landmark is trusted (0 suspect .. 1 static evidence), and
 /// whether it has static evidence.
@@ -82,12 +102,11 @@ class BackgroundSelector {
                   Isometry T) const;
   double priorFactor(const Isometry& T, const Isometry& predicted, double frame_gap) const;
   bool inlier(const MotionMatch& m, const Isometry& T, double scale = 1.0) const;
-  std::uint64_t nextRandom();
 
   BackgroundOptions options_;
   GmcClassifier gmc_;
   GmcResult scratch_;
-  std::uint64_t rng_state_ = 0x9E3779B97F4A7C15ull;
+  Xorshift64 rng_{0x9E3779B97F4A7C15ull};
 };
 
 }  // namespace gmc::vo

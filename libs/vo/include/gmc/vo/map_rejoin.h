@@ -5,13 +5,15 @@
 // offset. The landmarks of the old map not seen moving are kept here, frozen
 // in the old world frame; while the camera tracks in the new map, its frames are matched
 // against them by descriptor over the whole image (the offset is what the prediction
-// drifted while lost: decimetres and up to 15 degrees in the generated crowds). Once two attempts in a row find the
-// same correction (old world <- new world) on enough of them, the odometry moves
-// its new map into the old frame and takes the frozen landmarks back. No I/O.
+// drifted while lost: decimetres and up to 15 degrees in the generated crowds). Once two
+// attempts in a row find the same correction (old world <- new world) on enough of
+// them, the odometry moves its new map into the old frame and takes the frozen
+// landmarks back. No I/O.
 #include <optional>
 #include <vector>
 
 #include "gmc/features/frontend.h"
+#include "gmc/vo/background.h"
 #include "gmc/vo/landmark_map.h"
 #include "gmc/vo/pose_refinement.h"
 
@@ -40,7 +42,6 @@ struct RejoinOptions {
     v("max_seconds", max_seconds, 0.0, 1e6, "s after the re-anchor the old map is given up");
     v("max_landmarks", max_landmarks, 3, 10000000, "old landmarks kept (most re-observed first)");
     v("ransac_iterations", ransac_iterations, 1, 100000, "3-point hypotheses per attempt");
-
   }
 };
 
@@ -88,7 +89,7 @@ class MapRejoin {
   double frozen_at_ = 0;
   int tracked_frames_ = 0;
   std::optional<Isometry> candidate_;  ///< the last attempt's correction, awaiting confirmation
-  std::uint64_t rng_state_ = 0x2545F4914F6CDD1Dull;
+  Xorshift64 rng_{0x2545F4914F6CDD1Dull};
 };
 
 }  // namespace gmc::vo
