@@ -96,17 +96,43 @@ Isometry BackgroundSelector::polish(const std::vector<MotionMatch>& matches, con
   return T;
 }
 
-double BackgroundSelector::priorFactor(const Isometry& T, const Isometry& predicted, double frame_gap) const {
+double BackgroundSelector::priorFactor(const Isometry& T, const Isometry& predicted, double frame_gap,
+                                       bool velocity_known) const {
   const double frames = std::max(1.0, frame_gap * 30.0);
+  double sigma_t = options_.prior_translation * frames, sigma_r = options_.prior_rotation * frames;
+  if (!velocity_known) {
+    sigma_t = std::max(sigma_t, options_.start_translation * frames);
+    sigma_r = std::max(sigma_r, options_.start_rotation * frames);
+  }
   const Isometry d = predicted.inverse() * T;
-  const double t = d.translation().norm() / (options_.prior_translation * frames);
-  const double r = Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI / (options_.prior_rotation * frames);
+  const double t = d.translation().norm() / sigma_t;
+  const double r = Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI / sigma_r;
   return std::exp(-0.5 * (t * t + r * r));
 }
 
+void BackgroundSelector::occlusionVotes(const std::vector<MotionMatch>& matches,
+                                        const std::vector<MotionLabel>& labels, double& front,
+                                        double& behind) const {
+  // Walkers pass in front of the room, never behind it: a background that stands in
+  // front of what it calls moving is the wrong way round. Image neighbours of opposite
+  // labels whose depths differ by more than the margin vote.
+  front = behind = 0;
+  const double r2 = options_.occlusion_radius * options_.occlusion_radius;
+  for (size_t i = 0; i < matches.size(); ++i) {
+    if (labels[i] != MotionLabel::Static) continue;
+    for (size_t j = 0; j < matches.size(); ++j) {
+      if (labels[j] != MotionLabel::Dynamic) continue;
+      if (static_cast<double>((matches[i].pixel - matches[j].pixel).squaredNorm()) > r2) continue;
+      const double dz = matches[j].point_cur.z() - matches[i].point_cur.z();
+      if (dz > options_.occlusion_margin) front += 1;
+      else if (dz < -options_.occlusion_margin) behind += 1;
+    }
+  }
+}
+
 void BackgroundSelector::select(const std::vector<MotionMatch>& matches, const MatchTrust& trust,
-                                const Isometry& predicted, double frame_gap, int image_width,
-                                int image_height, BackgroundChoice& out) {
+                                const SelectionContext& context, BackgroundChoice& out) {
+  const Isometry& predicted = context.predicted;
   std::vector<int> static_pool, trusted_pool;
   for (size_t i = 0; i < matches.size(); ++i) {
     if (trust.weight[i] > 0) trusted_pool.push_back(static_cast<int>(i));
@@ -120,22 +146,37 @@ void BackgroundSelector::select(const std::vector<MotionMatch>& matches, const M
   if (static_pool.size() >= 6)
     candidates.push_back({polish(matches, trust.weight, ransac(matches, trust.weight, static_pool, predicted)),
                           "ransac_static"});
-  candidates.push_back({polish(matches, trust.weight, ransac(matches, trust.weight, trusted_pool, predicted)),
-                        "ransac_all"});
+  const Isometry T_all = polish(matches, trust.weight, ransac(matches, trust.weight, trusted_pool, predicted));
+  candidates.push_back({T_all, "ransac_all"});
+  const bool young = context.young_map && static_cast<int>(static_pool.size()) < options_.min_static_landmarks;
+  if (young && options_.young_second_motion) {
+    std::vector<int> rest;
+    for (int i : trusted_pool)
+      if (!inlier(matches[static_cast<size_t>(i)], T_all, 2.0)) rest.push_back(i);
+    if (rest.size() >= 6)
+      candidates.push_back({polish(matches, trust.weight, ransac(matches, trust.weight, rest, predicted)),
+                            "ransac_rest"});
+  }
 
   out.score = -1;
   for (size_t c = 0; c < candidates.size(); ++c) {
     bool seen = false;
     for (size_t k = 0; k < c; ++k) seen = seen || similar(candidates[k].T, candidates[c].T);
     if (seen) continue;
-    gmc_.classify(matches, candidates[c].T, image_width, image_height, scratch_);
+    gmc_.classify(matches, candidates[c].T, context.image_width, context.image_height, scratch_);
     // Evidence counts the static matches the hypothesis explains: when no cluster sits at
     // zero motion GMC falls back to the largest one, which the hypothesis does not explain.
     double evidence = 0;
     for (size_t i = 0; i < matches.size(); ++i)
       if (scratch_.labels[i] == MotionLabel::Static && inlier(matches[i], candidates[c].T, 2.0))
         evidence += trust.weight[i];
-    const double score = evidence * priorFactor(candidates[c].T, predicted, frame_gap);
+    double score = evidence * priorFactor(candidates[c].T, predicted, context.frame_gap, context.velocity_known);
+    if (young && options_.occlusion_radius > 0) {
+      // Laplace-smoothed share of votes that put the hypothesis' background behind.
+      double front = 0, behind = 0;
+      occlusionVotes(matches, scratch_.labels, front, behind);
+      score *= (behind + 1) / (behind + front + 2);
+    }
     if (score > out.score) {
       out.score = score;
       out.T_ref_cur = candidates[c].T;
@@ -143,6 +184,9 @@ void BackgroundSelector::select(const std::vector<MotionMatch>& matches, const M
       std::swap(out.gmc, scratch_);
     }
   }
+  out.young = young;
+  out.inlier.assign(matches.size(), 0);
+  for (size_t i = 0; i < matches.size(); ++i) out.inlier[i] = inlier(matches[i], out.T_ref_cur) ? 1 : 0;
   out.established_matched = static_cast<int>(static_pool.size());
   out.established_agreeing = 0;
   for (int i : static_pool)

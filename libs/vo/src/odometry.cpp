@@ -117,8 +117,13 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   // 2. The background: motion hypotheses judged by GMC and the landmarks' static evidence.
   t0 = Clock::now();
   // The prior widens with every lost frame: their poses are guesses.
-  background_.select(track_.motion, track_.trust, Isometry::Identity(), (stamp - last_stamp_) * (1 + lost_streak_),
-                     cur.width, cur.height, choice_);
+  SelectionContext context;
+  context.frame_gap = (stamp - last_stamp_) * (1 + lost_streak_);
+  context.velocity_known = velocity_known_;
+  context.young_map = stamp - map_start_stamp_ < config_.background.young_map_seconds;
+  context.image_width = cur.width;
+  context.image_height = cur.height;
+  background_.select(track_.motion, track_.trust, context, choice_);
   out.gmc = choice_.gmc;
   out.background_source = choice_.source;
   out.static_landmarks_matched = choice_.established_matched;
@@ -148,8 +153,10 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
     out.T_world_camera = orthonormalized(optimizeWindow(camera, stamp, out));
   // The velocity of a tracked frame, once its pose is final. After lost frames the last
   // pose was a prediction: the step from it corrects the prediction, it is no velocity.
-  if (out.state == TrackingState::Tracking && !after_lost_frames)
+  if (out.state == TrackingState::Tracking && !after_lost_frames) {
     velocity_ = T_world_last_.inverse() * out.T_world_camera;
+    velocity_known_ = true;
+  }
   out.map_landmarks = static_cast<int>(map_.numAlive());
   out.times.window = msSince(t0);
 
@@ -178,7 +185,8 @@ void RgbdOdometry::initialize(features::FeatureSet&& cur, double stamp, FrameTra
   previous_ = std::move(cur);
   previous_memory_.assign(previous_.size(), 0);
   T_world_previous_ = T_world_last_ = velocity_ = Isometry::Identity();
-  last_stamp_ = stamp;
+  velocity_known_ = false;
+  map_start_stamp_ = last_stamp_ = stamp;
   lost_streak_ = 0;
   last_tracked_static_landmarks_ = 0;
   last_tracked_dynamic_share_ = 0;
@@ -312,6 +320,7 @@ RefinementResult RgbdOdometry::refineOnBackground(const Isometry& T_world_guess,
     // it stands still in this frame; its label stays GMC's (a depth-edge corner that
     // flipped is background for the mask).
     if (track_.trust.weight[k] <= 0) continue;
+    if (choice_.young && config_.background.young_refine_inliers && !choice_.inlier[k]) continue;
     const auto& m = track_.motion[k];
     out.keypoint_in_pose[cur_index] = 1;
     obs.push_back({map_[track_.landmark[k]].position, m.pixel.cast<double>(), m.point_cur.z(),
@@ -425,6 +434,7 @@ void RgbdOdometry::updateMap(const features::FeatureSet& cur, double stamp, Fram
   if (decision == KeyframeDecision::Reanchor) {
     out.state = TrackingState::Reanchored;
     velocity_ = Isometry::Identity();
+    velocity_known_ = false;
     lost_streak_ = 0;
     if (config_.keyframes.reanchor_new_map) startNewMap(cur, stamp);
   }
@@ -438,6 +448,7 @@ void RgbdOdometry::startNewMap(const features::FeatureSet& cur, double stamp) {
   for (size_t i = 0; i < cur.size(); ++i) with_depth += cur.hasDepth(static_cast<int>(i)) ? 1 : 0;
   if (with_depth < config_.odometry.min_matches) return;
   rejoin_.freeze(map_.landmarksNotSeenMoving(stamp), stamp);
+  map_start_stamp_ = stamp;
   map_.clear();
   window_keyframes_.clear();
   pose_landmarks_.clear();

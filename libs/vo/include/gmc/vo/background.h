@@ -24,8 +24,22 @@ struct BackgroundOptions {
                                       ///< < 0.3 m/s in 1/30 s (10 m/s^2); walkers' own
                                       ///< motion is 3-5 cm per frame
   double prior_rotation = 1.0;        ///< deg, the same for rotation (30 deg/s change)
+  double start_translation = 0.01;    ///< m per 1/30 s, the prior's std dev while the velocity is
+                                      ///< unknown (a map's first frame); 0.05 = walking, 1.5 m/s
+  double start_rotation = 1.0;        ///< deg, the same for rotation (3 = 90 deg/s)
   int min_static_landmarks = 20;      ///< judge agreement once this many static landmarks match ...
   double min_static_agreement = 0.3;  ///< ... and call the frame lost when fewer agree
+  // A young map (its first second, before static evidence can exist) has only one
+  // frame's geometry to tell the room from walkers that outnumber it:
+  double young_map_seconds = 0;       ///< s after a map starts (or re-anchors) during which it is
+                                      ///< young; 0 = off (twelfth round: 1 s fixes synchronous
+                                      ///< starts, follows walkers at Bonn's crowded ones)
+  bool young_second_motion = true;    ///< young map: also the best motion of what the first leaves
+                                      ///< (a group walking in step is the first, the room the second)
+  double occlusion_radius = 40;       ///< px, young map: neighbours that vote on occlusion (0 = off)
+  double occlusion_margin = 0.3;      ///< m, depth step that counts as occlusion
+  bool young_refine_inliers = true;   ///< young map: refine only on the hypothesis' inliers (GMC's
+                                      ///< one-frame labels cannot split 3 cm at 3 m; a mix would)
 
   template <class V>
   void visit(V& v) {
@@ -35,10 +49,21 @@ struct BackgroundOptions {
     v("prior_translation", prior_translation, 1e-4, 100.0,
       "m, std dev of the constant-velocity prior's translation per 1/30 s");
     v("prior_rotation", prior_rotation, 1e-3, 180.0, "deg, the same for rotation");
+    v("start_translation", start_translation, 1e-4, 100.0,
+      "m, std dev of the prior's translation per 1/30 s while the velocity is unknown (a map's first frame)");
+    v("start_rotation", start_rotation, 1e-3, 180.0, "deg, the same for rotation");
     v("min_static_landmarks", min_static_landmarks, 1, 100000,
       "matched static-evidence landmarks needed before their agreement is judged");
     v("min_static_agreement", min_static_agreement, 0.0, 1.0,
       "lost when fewer of the matched static-evidence landmarks are labelled static");
+    v("young_map_seconds", young_map_seconds, 0.0, 1000.0,
+      "s after a map starts (or re-anchors) during which it is young, while fewer than min_static_landmarks match");
+    v("young_second_motion", young_second_motion,
+      "young map: also try the best motion of the matches the first motion leaves out");
+    v("young_refine_inliers", young_refine_inliers, "young map: refine on the chosen motion's 3-D inliers only");
+    v("occlusion_radius", occlusion_radius, 0.0, 1000.0,
+      "px, young map: image neighbours of opposite labels vote on which is in front (0 = off)");
+    v("occlusion_margin", occlusion_margin, 0.0, 10.0, "m, depth difference that counts as one in front of the other");
   }
 };
 
@@ -79,6 +104,17 @@ struct BackgroundChoice {
   int established_matched = 0;                ///< matches on static-evidence landmarks ...
   int established_agreeing = 0;               ///< ... of which labelled static
   bool trustworthy = true;                    ///< false: the static landmarks disagree
+  bool young = false;                         ///< fewer than min_static_landmarks static landmarks matched
+  std::vector<std::uint8_t> inlier;           ///< per match: within the 3-D threshold of T_ref_cur
+};
+
+/// What the odometry knows about the frame beyond its matches.
+struct SelectionContext {
+  Isometry predicted = Isometry::Identity();  ///< the motion prior as T_ref_cur
+  double frame_gap = 1 / 30.0;  ///< s since the last tracked frame (scales the prior)
+  bool velocity_known = true;   ///< false on a map's first frame: the prediction is a guess
+  bool young_map = false;       ///< the map is younger than young_map_seconds
+  int image_width = 640, image_height = 480;
 };
 
 class BackgroundSelector {
@@ -87,10 +123,9 @@ class BackgroundSelector {
   const BackgroundOptions& options() const { return options_; }
 
   /// matches: point_ref in the reference frame (the predicted camera frame when matching
-  /// against the map), predicted: the motion prior as T_ref_cur; frame_gap: seconds
-  /// since the last tracked frame (scales the prior).
-  void select(const std::vector<MotionMatch>& matches, const MatchTrust& trust, const Isometry& predicted,
-              double frame_gap, int image_width, int image_height, BackgroundChoice& out);
+  /// against the map).
+  void select(const std::vector<MotionMatch>& matches, const MatchTrust& trust, const SelectionContext& context,
+              BackgroundChoice& out);
 
  private:
   /// Weighted number of matches within the 3-D inlier threshold under T_ref_cur.
@@ -100,7 +135,10 @@ class BackgroundSelector {
                   const std::vector<int>& pool, const Isometry& fallback);
   Isometry polish(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
                   Isometry T) const;
-  double priorFactor(const Isometry& T, const Isometry& predicted, double frame_gap) const;
+  /// Neighbour pairs (static, dynamic) where the static one is in front / behind.
+  void occlusionVotes(const std::vector<MotionMatch>& matches, const std::vector<MotionLabel>& labels,
+                      double& front, double& behind) const;
+  double priorFactor(const Isometry& T, const Isometry& predicted, double frame_gap, bool velocity_known) const;
   bool inlier(const MotionMatch& m, const Isometry& T, double scale = 1.0) const;
 
   BackgroundOptions options_;

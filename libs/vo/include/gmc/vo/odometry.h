@@ -217,6 +217,8 @@ class RgbdOdometry {
   Isometry T_world_last_ = Isometry::Identity();
   double last_stamp_ = 0;
   Isometry velocity_ = Isometry::Identity();  ///< last frame-to-frame motion
+  bool velocity_known_ = false;               ///< false until a map's first tracked step
+  double map_start_stamp_ = 0;                ///< when the current map started (young map)
   int lost_streak_ = 0;
   int last_tracked_static_landmarks_ = 0;   ///< landmarks with static evidence the last tracked
                                             ///< frame matched ...
