@@ -216,6 +216,23 @@ TEST(Scenarios, CrowdHoverFilmsThreePeopleWhoNeverStand) {
   }
 }
 
+// A map that starts inside the crowd: people cover most of the first frame, so the first
+// keyframe's corners are mostly on them (Bonn 301_460's window +20 starts that way).
+TEST(Scenarios, CrowdStartFillsTheFirstFrameWithPeople) {
+  const SimOptions o = scenario("crowd_start"), hover = scenario("crowd_hover");
+  EXPECT_EQ(o.people.walkers, 5);
+  EXPECT_EQ(o.trajectory.amplitude, hover.trajectory.amplitude);
+  EXPECT_EQ(o.sensor.disparity_step, hover.sensor.disparity_step);
+  for (int seed : {1, 2, 3}) {
+    SimOptions s = o;
+    s.simulator.seed = seed;
+    const auto first = Simulator(s).renderFrame(0);
+    const double share = static_cast<double>(cv::countNonZero(first.mask)) / first.mask.total();
+    std::printf("  crowd_start seed %d: people on %.3f of the first frame\n", seed, share);
+    EXPECT_GE(share, 0.3) << "seed " << seed;
+  }
+}
+
 // Real people who stop are never still: they shift their weight, turn and gesture, a few
 // millimetres per frame, slow enough to pass a per-frame motion test as background (the
 // Bonn crowd's standing people do). With fidget the standing walker's silhouette changes
