@@ -185,8 +185,9 @@ void BackgroundSelector::select(const std::vector<MotionMatch>& matches, const M
     }
   }
   out.young = young;
-  out.inlier.assign(matches.size(), 0);
-  for (size_t i = 0; i < matches.size(); ++i) out.inlier[i] = inlier(matches[i], out.T_ref_cur) ? 1 : 0;
+  out.inlier.clear();
+  if (young && options_.young_refine_inliers)
+    for (const auto& m : matches) out.inlier.push_back(inlier(m, out.T_ref_cur) ? 1 : 0);
   out.established_matched = static_cast<int>(static_pool.size());
   out.established_agreeing = 0;
   for (int i : static_pool)

@@ -320,7 +320,7 @@ RefinementResult RgbdOdometry::refineOnBackground(const Isometry& T_world_guess,
     // it stands still in this frame; its label stays GMC's (a depth-edge corner that
     // flipped is background for the mask).
     if (track_.trust.weight[k] <= 0) continue;
-    if (choice_.young && config_.background.young_refine_inliers && !choice_.inlier[k]) continue;
+    if (!choice_.inlier.empty() && !choice_.inlier[k]) continue;  // a young map: the chosen motion's inliers
     const auto& m = track_.motion[k];
     out.keypoint_in_pose[cur_index] = 1;
     obs.push_back({map_[track_.landmark[k]].position, m.pixel.cast<double>(), m.point_cur.z(),

@@ -105,7 +105,9 @@ struct BackgroundChoice {
   int established_agreeing = 0;               ///< ... of which labelled static
   bool trustworthy = true;                    ///< false: the static landmarks disagree
   bool young = false;                         ///< fewer than min_static_landmarks static landmarks matched
-  std::vector<std::uint8_t> inlier;           ///< per match: within the 3-D threshold of T_ref_cur
+  std::vector<std::uint8_t> inlier;           ///< young map with young_refine_inliers only (else
+                                              ///< empty): per match, within the 3-D threshold of
+                                              ///< T_ref_cur; the refinement takes only these
 };
 
 /// What the odometry knows about the frame beyond its matches.
