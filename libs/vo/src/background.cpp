@@ -96,7 +96,7 @@ Isometry BackgroundSelector::polish(const std::vector<MotionMatch>& matches, con
   return T;
 }
 
-double BackgroundSelector::priorFactor(const Isometry& T, const Isometry& predicted, double frame_gap,
+double BackgroundSelector::priorFactor(const Isometry& T, double frame_gap,
                                        bool velocity_known) const {
   const double frames = std::max(1.0, frame_gap * 30.0);
   double sigma_t = options_.prior_translation * frames, sigma_r = options_.prior_rotation * frames;
@@ -104,9 +104,9 @@ double BackgroundSelector::priorFactor(const Isometry& T, const Isometry& predic
     sigma_t = std::max(sigma_t, options_.start_translation * frames);
     sigma_r = std::max(sigma_r, options_.start_rotation * frames);
   }
-  const Isometry d = predicted.inverse() * T;
-  const double t = d.translation().norm() / sigma_t;
-  const double r = Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI / sigma_r;
+  // The matches are in the predicted camera frame: T itself is the departure from the prediction.
+  const double t = T.translation().norm() / sigma_t;
+  const double r = Eigen::AngleAxisd(T.linear()).angle() * 180.0 / M_PI / sigma_r;
   return std::exp(-0.5 * (t * t + r * r));
 }
 
@@ -132,7 +132,7 @@ void BackgroundSelector::occlusionVotes(const std::vector<MotionMatch>& matches,
 
 void BackgroundSelector::select(const std::vector<MotionMatch>& matches, const MatchTrust& trust,
                                 const SelectionContext& context, BackgroundChoice& out) {
-  const Isometry& predicted = context.predicted;
+  const Isometry predicted = Isometry::Identity();  // point_ref is in the predicted frame
   std::vector<int> static_pool, trusted_pool;
   for (size_t i = 0; i < matches.size(); ++i) {
     if (trust.weight[i] > 0) trusted_pool.push_back(static_cast<int>(i));
@@ -170,7 +170,7 @@ void BackgroundSelector::select(const std::vector<MotionMatch>& matches, const M
     for (size_t i = 0; i < matches.size(); ++i)
       if (scratch_.labels[i] == MotionLabel::Static && inlier(matches[i], candidates[c].T, 2.0))
         evidence += trust.weight[i];
-    double score = evidence * priorFactor(candidates[c].T, predicted, context.frame_gap, context.velocity_known);
+    double score = evidence * priorFactor(candidates[c].T, context.frame_gap, context.velocity_known);
     if (young && options_.occlusion_radius > 0) {
       // Laplace-smoothed share of votes that put the hypothesis' background behind.
       double front = 0, behind = 0;

@@ -112,7 +112,6 @@ struct BackgroundChoice {
 
 /// What the odometry knows about the frame beyond its matches.
 struct SelectionContext {
-  Isometry predicted = Isometry::Identity();  ///< the motion prior as T_ref_cur
   double frame_gap = 1 / 30.0;  ///< s since the last tracked frame (scales the prior)
   bool velocity_known = true;   ///< false on a map's first frame: the prediction is a guess
   bool young_map = false;       ///< the map is younger than young_map_seconds
@@ -124,8 +123,8 @@ class BackgroundSelector {
   explicit BackgroundSelector(const BackgroundOptions& options, const GmcParams& gmc);
   const BackgroundOptions& options() const { return options_; }
 
-  /// matches: point_ref in the reference frame (the predicted camera frame when matching
-  /// against the map).
+  /// matches: point_ref in the predicted camera frame, so the prediction is the identity
+  /// motion (the motion prior is centred there).
   void select(const std::vector<MotionMatch>& matches, const MatchTrust& trust, const SelectionContext& context,
               BackgroundChoice& out);
 
@@ -140,7 +139,8 @@ class BackgroundSelector {
   /// Neighbour pairs (static, dynamic) where the static one is in front / behind.
   void occlusionVotes(const std::vector<MotionMatch>& matches, const std::vector<MotionLabel>& labels,
                       double& front, double& behind) const;
-  double priorFactor(const Isometry& T, const Isometry& predicted, double frame_gap, bool velocity_known) const;
+  /// The motion prior's weight of T (a departure from the prediction, which is the identity).
+  double priorFactor(const Isometry& T, double frame_gap, bool velocity_known) const;
   bool inlier(const MotionMatch& m, const Isometry& T, double scale = 1.0) const;
 
   BackgroundOptions options_;
