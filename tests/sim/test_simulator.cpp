@@ -211,6 +211,52 @@ TEST(Simulator, RadialDepthBiasScalesDepthWithTheImageRadius) {
   EXPECT_EQ(off, 0);
 }
 
+// A structured-light sensor's depth distortion: a fixed, smooth offset in disparity over
+// the image, so that one surface reads differently from each view.
+TEST(Simulator, DisparityDistortionIsAFixedSmoothPatternOverTheImage) {
+  SimOptions o = small(SimOptions::exact());
+  o.sensor.disparity_distortion = 0.002;
+  const Simulator sim(o);
+  // The offset 1/measured - 1/true at every pixel with depth, and how finely the uint16
+  // depth (0.2 mm steps) resolves it there: 1e-4 / z^2.
+  auto offsets = [&](int index, cv::Mat& resolution) {
+    const auto f = sim.renderFrame(index);
+    cv::Mat out(f.frame.depth.size(), CV_64F, cv::Scalar(NAN));
+    resolution = cv::Mat(f.frame.depth.size(), CV_64F, cv::Scalar(0));
+    for (int v = 0; v < out.rows; ++v)
+      for (int u = 0; u < out.cols; ++u) {
+        const double z = f.true_depth.at<double>(v, u);
+        const int raw = f.frame.depth.at<std::uint16_t>(v, u);
+        if (z <= 0 || raw == 0) continue;
+        out.at<double>(v, u) = 5000.0 / raw - 1.0 / z;
+        resolution.at<double>(v, u) = 1e-4 / (z * z);
+      }
+    return out;
+  };
+  cv::Mat ra, rb;
+  const cv::Mat a = offsets(2, ra), b = offsets(40, rb);
+  int compared = 0, differing = 0, rough = 0;
+  double lowest = 1, highest = -1;
+  for (int v = 0; v < a.rows; ++v)
+    for (int u = 0; u + 1 < a.cols; ++u) {
+      const double x = a.at<double>(v, u), tolerance = ra.at<double>(v, u);
+      if (std::isnan(x)) continue;
+      lowest = std::min(lowest, x + tolerance), highest = std::max(highest, x - tolerance);
+      if (!std::isnan(b.at<double>(v, u))) {
+        ++compared;
+        differing += std::abs(x - b.at<double>(v, u)) > tolerance + rb.at<double>(v, u);
+      }
+      const double right = a.at<double>(v, u + 1);
+      if (!std::isnan(right)) rough += std::abs(right - x) > 1e-4 + tolerance + ra.at<double>(v, u + 1);
+    }
+  EXPECT_GT(compared, 1000);
+  EXPECT_EQ(differing, 0);  // the same at a pixel in every frame
+  EXPECT_EQ(rough, 0);      // smooth
+  EXPECT_LE(highest, 0.002);
+  EXPECT_GE(lowest, -0.002);
+  EXPECT_GT(highest - lowest, 0.001);  // a pattern, not an offset
+}
+
 /// Static surface samples on a 3 cm voxel hash, for nearest-sample queries.
 class SampleIndex {
  public:

@@ -659,6 +659,13 @@ cv::Mat Simulator::sensorDepth(const View& view, int index) const {
           const double x = (u - co.cx) / co.fx, y = (v - co.cy) / co.fy;
           z *= 1 + so.depth_radial_bias * (x * x + y * y);
         }
+        if (so.disparity_distortion != 0) {
+          // Fixed over frames, smooth over the image: a wave and a bowl in disparity.
+          const double x = static_cast<double>(u) / W - 0.5, y = static_cast<double>(v) / H - 0.5;
+          const double pattern = 0.6 * std::cos(2 * M_PI * 0.8 * x + 0.3) * std::cos(2 * M_PI * 0.6 * y + 1.1) +
+                                 0.4 * (4 * (x * x + y * y) - 1);
+          z = 1.0 / (1.0 / z + so.disparity_distortion * pattern);
+        }
         if (so.quantize) z = 1.0 / (std::round((1.0 / z) / so.disparity_step) * so.disparity_step);
         depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(std::clamp(std::lround(z * 5000.0), 0L, 65535L));
       }
