@@ -165,7 +165,25 @@ struct Simulator::Scene {
   std::vector<double> handheld_phase;  // per axis and harmonic
   Eigen::Vector2d walk_from = Eigen::Vector2d::Zero(), walk_to = Eigen::Vector2d::Zero();  ///< style walk
   double walk_far = 1.5;  ///< y of the farthest walking path (clear of the back furniture)
+  cv::Mat disparity_offset;  ///< 1/m per pixel ([Sensor] disparity_distortion; empty when off)
 };
+
+namespace {
+
+/// The sensor's fixed disparity offsets (1/m) over the image: a wave and a bowl, within
+/// +-amplitude, computed once since they do not change from frame to frame.
+cv::Mat disparityOffsets(const CameraOptions& co, double amplitude) {
+  cv::Mat out(co.height, co.width, CV_64F);
+  for (int v = 0; v < co.height; ++v)
+    for (int u = 0; u < co.width; ++u) {
+      const double x = static_cast<double>(u) / co.width - 0.5, y = static_cast<double>(v) / co.height - 0.5;
+      out.at<double>(v, u) = amplitude * (0.6 * std::cos(2 * M_PI * 0.8 * x + 0.3) * std::cos(2 * M_PI * 0.6 * y + 1.1) +
+                                          0.4 * (4 * (x * x + y * y) - 1));
+    }
+  return out;
+}
+
+}  // namespace
 
 SimOptions SimOptions::exact() {
   SimOptions o;
@@ -304,6 +322,8 @@ Simulator::Simulator(const SimOptions& options) : options_(options), scene_(std:
     builder.box({0.65, p.seat.y() - 0.05, 0}, {1.15, p.seat.y() + 0.45, 0.43}, builder.furniture(0.08));  // the chair
   }
   for (int k = 0; k < 18; ++k) scene_->handheld_phase.push_back(rng.uniform(0, 2 * M_PI));
+  if (options.sensor.disparity_distortion != 0)
+    scene_->disparity_offset = disparityOffsets(options.camera, options.sensor.disparity_distortion);
 }
 
 void Simulator::addWalkers(Rng& rng) {
@@ -659,13 +679,7 @@ cv::Mat Simulator::sensorDepth(const View& view, int index) const {
           const double x = (u - co.cx) / co.fx, y = (v - co.cy) / co.fy;
           z *= 1 + so.depth_radial_bias * (x * x + y * y);
         }
-        if (so.disparity_distortion != 0) {
-          // Fixed over frames, smooth over the image: a wave and a bowl in disparity.
-          const double x = static_cast<double>(u) / W - 0.5, y = static_cast<double>(v) / H - 0.5;
-          const double pattern = 0.6 * std::cos(2 * M_PI * 0.8 * x + 0.3) * std::cos(2 * M_PI * 0.6 * y + 1.1) +
-                                 0.4 * (4 * (x * x + y * y) - 1);
-          z = 1.0 / (1.0 / z + so.disparity_distortion * pattern);
-        }
+        if (!scene_->disparity_offset.empty()) z = 1.0 / (1.0 / z + scene_->disparity_offset.at<double>(v, u));
         if (so.quantize) z = 1.0 / (std::round((1.0 / z) / so.disparity_step) * so.disparity_step);
         depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(std::clamp(std::lround(z * 5000.0), 0L, 65535L));
       }

@@ -96,8 +96,7 @@ Isometry BackgroundSelector::polish(const std::vector<MotionMatch>& matches, con
   return T;
 }
 
-double BackgroundSelector::priorFactor(const Isometry& T, double frame_gap,
-                                       bool velocity_known) const {
+double BackgroundSelector::priorFactor(const Isometry& T, double frame_gap, bool velocity_known) const {
   const double frames = std::max(1.0, frame_gap * 30.0);
   double sigma_t = options_.prior_translation * frames, sigma_r = options_.prior_rotation * frames;
   if (!velocity_known) {
