@@ -36,23 +36,30 @@ def angle_deg(R):
     return math.degrees(math.acos(c))
 
 
+def unaligned_errors(estimate, groundtruth):
+    """(pose index, position error m, rotation error deg) of every estimated pose with a
+    ground truth, both trajectories relative to their first pose; [] when none matches."""
+    est, gt = read_tum(estimate), read_tum(groundtruth)
+    pairs = associate_pairs([r[0] for r in est], gt)
+    if not pairs:
+        return []
+    e0, g0 = pose(est[pairs[0][0]]), pose(pairs[0][1])
+    rows = []
+    for n, (i, g) in enumerate(pairs):
+        E, G = relative(e0, pose(est[i])), relative(g0, pose(g))
+        rows.append((n, math.dist(E[1], G[1]), angle_deg(relative(G, E)[0])))
+    return rows
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument('estimate')
     p.add_argument('groundtruth')
     p.add_argument('--every', type=int, default=30)
     a = p.parse_args()
-    est, gt = read_tum(a.estimate), read_tum(a.groundtruth)
-    pairs = associate_pairs([r[0] for r in est], gt)
-    if not pairs:
+    rows = unaligned_errors(a.estimate, a.groundtruth)
+    if not rows:
         sys.exit('start_error.py: no pose of %s matches the ground truth' % a.estimate)
-    e0, g0 = pose(est[pairs[0][0]]), pose(pairs[0][1])
-    rows = []
-    for n, (i, g) in enumerate(pairs):
-        E, G = relative(e0, pose(est[i])), relative(g0, pose(g))
-        position = math.dist(E[1], G[1])
-        turn = angle_deg(relative(G, E)[0])
-        rows.append((n, position, turn))
     for n, position, turn in rows:
         if n % a.every == 0 or n == len(rows) - 1:
             print('pose %4d  position error %.4f m  rotation error %.2f deg' % (n, position, turn))
