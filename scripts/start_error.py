@@ -8,6 +8,9 @@ relative to their first pose, as the map is built: the position and rotation err
 every `--every`-th pose, and at the last pose.
 
   python3 scripts/start_error.py RUN/trajectory_tum.txt GROUNDTRUTH [--every 30]
+
+GROUNDTRUTH holds camera poses: Bonn's holds the marker body, so convert it first with
+`gmc-eval --gt GT --est RUN/trajectory_tum.txt --gt-frame bonn --gt-out GT_CAMERA`.
 """
 import argparse
 import math
