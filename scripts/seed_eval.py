@@ -66,7 +66,7 @@ def main():
         sys.stdout.flush()
     print('\n%s: %d seeds, with GMC median %.4f m, max %.4f m; %d more than %.1f m off after 1 s' % (
         args.scenario, len(with_gmc), statistics.median(with_gmc), max(with_gmc),
-        sum(1 for e in after_start if not e <= START_FAILED), START_FAILED))
+        sum(1 for e in after_start if not e <= START_FAILED), START_FAILED))  # NaN (no pose) counts as failed
 
 
 if __name__ == '__main__':
