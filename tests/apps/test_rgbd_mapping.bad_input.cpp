@@ -542,3 +542,41 @@ TEST(RgbdMappingBadInput, SigtermAndSigintStopReadingAndWriteCompleteOutputs) {
 }
 
 }  // namespace
+
+/// Distance of trajectory pose k from the straight path between poses a and b (by stamp).
+double offPath(const std::vector<gmc::datasets::StampedPose>& t, size_t a, size_t k, size_t b) {
+  const double f = (t[k].stamp - t[a].stamp) / (t[b].stamp - t[a].stamp);
+  const Eigen::Vector3d on = t[a].pose.translation() + f * (t[b].pose.translation() - t[a].pose.translation());
+  return (t[k].pose.translation() - on).norm();
+}
+
+// Four black frames in the middle of a moving camera's sequence are lost (their live
+// poses are predictions, the velocity halved each frame, so they fall behind the
+// camera); once frame 10 is tracked again, trajectory_tum.txt holds them on the path
+// between frames 5 and 10. tracking.csv keeps the live poses.
+TEST(RgbdMappingBadInput, LostFramesAreBridgedInTheTrajectoryOnceTrackingResumes) {
+  const auto root = gmc::testdata::scratchDir("bad_bridge");
+  auto frames = renderFrames(smallScene(16));
+  for (int i = 6; i < 10; ++i) frames[static_cast<size_t>(i)].rgb.setTo(cv::Scalar::all(0));
+  const auto dir = writeTumFolder(root + "/seq", frames);
+  const AppRun bridged = runMapping(dir, root + "/out", {"--set", "Output.map=false"});
+  const AppRun live = runMapping(dir, root + "/out_live", {"--set", "Output.map=false", "--set", "Odometry.revise_lost=false"});
+  ASSERT_EQ(bridged.exit_code, 0) << bridged.err;
+  ASSERT_EQ(live.exit_code, 0) << live.err;
+  EXPECT_EQ(bridged.count("lost"), 4) << bridged.err;
+  const auto b = gmc::datasets::readTumTrajectory(root + "/out/trajectory_tum.txt");
+  const auto l = gmc::datasets::readTumTrajectory(root + "/out_live/trajectory_tum.txt");
+  ASSERT_EQ(b.size(), 16u);
+  ASSERT_EQ(l.size(), 16u);
+  double bridged_off = 0, live_off = 0;
+  for (size_t k = 6; k < 10; ++k) {
+    bridged_off = std::max(bridged_off, offPath(b, 5, k, 10));
+    live_off = std::max(live_off, offPath(l, 5, k, 10));
+  }
+  std::printf("  4 lost frames: %.5f m off the path between the tracked ones bridged, %.5f m live\n", bridged_off,
+              live_off);
+  EXPECT_LT(bridged_off, 1e-6);
+  EXPECT_GT(live_off, 1e-3);
+  for (size_t k : {0u, 5u, 10u, 15u})  // tracked frames are the same either way
+    EXPECT_LT((b[k].pose.translation() - l[k].pose.translation()).norm(), 1e-9) << k;
+}

@@ -3,6 +3,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <optional>
 #include <set>
 
 #include "gmc/config/ini.h"
@@ -346,3 +347,53 @@ TEST(OdometrySim, AReanchoredMapRejoinsTheMapItLeft) {
 }
 
 }  // namespace
+
+/// Blind frames 45..45+blind-1 of the half-sphere scene, then frames until one is tracked:
+/// per blind frame its live pose, its revised pose (if any) and the truth, all relative to
+/// frame 0. Returns false if tracking never resumed.
+struct BlindFrame {
+  double stamp = 0;
+  gmc::Isometry live, truth;
+  std::optional<gmc::Isometry> revised;
+};
+bool bridgeBlindStretch(bool revise, int blind, std::vector<BlindFrame>& frames) {
+  const gmc::sim::Simulator sim(emptyHalfsphere());
+  gmc::vo::OdometryConfig config;
+  config.odometry.revise_lost = revise;
+  gmc::vo::RgbdOdometry vo(config);
+  const gmc::Isometry T0_inv = sim.cameraPose(0).inverse();
+  for (int i = 0; i < 45 + blind + 10; ++i) {
+    const auto [f, t] = trackSimFrame(sim, vo, i, i >= 45 && i < 45 + blind);
+    if (i >= 45 && t.state == gmc::vo::TrackingState::Lost)
+      frames.push_back({t.stamp, t.T_world_camera, T0_inv * f.T_world_camera, std::nullopt});
+    for (const auto& r : t.revised)
+      for (auto& b : frames)
+        if (b.stamp == r.stamp) b.revised = r.T_world_camera;
+    if (i >= 45 + blind && t.state == gmc::vo::TrackingState::Tracking) return true;
+  }
+  return false;
+}
+
+// A lost frame's pose is the prediction, given out live. Once a frame is tracked on the
+// same map again, the lost ones are revised onto the path between the two tracked poses:
+// for a camera that moves on smoothly that is far closer than the prediction, which
+// halves the velocity every frame and falls behind. The half-sphere path curves, so the
+// straight path between the two ends of half a second is centimetres off it.
+TEST(OdometrySim, LostFramesAreRevisedOntoThePathOnceTrackingResumes) {
+  std::vector<BlindFrame> frames;
+  ASSERT_TRUE(bridgeBlindStretch(true, 15, frames)) << "never tracked again";
+  ASSERT_GE(frames.size(), 15u);
+  double live = 0, revised = 0;
+  for (const auto& b : frames) {
+    ASSERT_TRUE(b.revised.has_value()) << "lost frame at " << b.stamp << " not revised";
+    live = std::max(live, (b.live.translation() - b.truth.translation()).norm());
+    revised = std::max(revised, (b.revised->translation() - b.truth.translation()).norm());
+  }
+  std::printf("  15 blind frames: worst position error %.4f m live (predicted), %.4f m revised\n", live, revised);
+  EXPECT_LT(revised, 0.05);
+  EXPECT_LT(revised, 0.5 * live);
+
+  std::vector<BlindFrame> unrevised;
+  ASSERT_TRUE(bridgeBlindStretch(false, 15, unrevised));
+  for (const auto& b : unrevised) EXPECT_FALSE(b.revised.has_value()) << "revise_lost=false revised a pose";
+}

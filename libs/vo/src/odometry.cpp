@@ -38,13 +38,12 @@ Isometry orthonormalized(const Isometry& T) {
   return out;
 }
 
-/// Halves a motion (rotation angle and translation): a lost frame's velocity may be the
-/// one that lost tracking, so it is extrapolated less each frame.
-Isometry halved(const Isometry& v) {
+/// A fraction of a motion (rotation angle and translation scaled alike).
+Isometry scaledMotion(const Isometry& v, double fraction) {
   const Eigen::AngleAxisd aa(v.linear());
   Isometry h = Isometry::Identity();
-  h.linear() = Eigen::AngleAxisd(0.5 * aa.angle(), aa.axis()).toRotationMatrix();
-  h.translation() = 0.5 * v.translation();
+  h.linear() = Eigen::AngleAxisd(aa.angle() * fraction, aa.axis()).toRotationMatrix();
+  h.translation() = v.translation() * fraction;
   return h;
 }
 
@@ -92,6 +91,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   const auto t_start = Clock::now();
   FrameTracking out;
   out.stamp = stamp;
+  out.frame_number = ++frame_number_;
   features::FeatureSet cur = frontend_.extract(gray, depth, depth_units, camera);
   out.num_features = static_cast<int>(cur.size());
   for (const auto& kp : cur.keypoints) out.keypoints.push_back(kp.pt);
@@ -159,6 +159,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   }
   out.map_landmarks = static_cast<int>(map_.numAlive());
   out.times.window = msSince(t0);
+  bridgeLostFrames(out);
 
   previous_ = std::move(cur);
   previous_memory_ = memory_;
@@ -186,11 +187,36 @@ void RgbdOdometry::initialize(features::FeatureSet&& cur, double stamp, FrameTra
   previous_memory_.assign(previous_.size(), 0);
   T_world_previous_ = T_world_last_ = velocity_ = Isometry::Identity();
   velocity_known_ = false;
-  map_start_stamp_ = last_stamp_ = stamp;
+  map_start_stamp_ = last_stamp_ = last_tracked_stamp_ = stamp;
+  T_world_last_tracked_ = Isometry::Identity();
+  lost_frames_.clear();
   lost_streak_ = 0;
   last_tracked_static_landmarks_ = 0;
   last_tracked_dynamic_share_ = 0;
   initialized_ = true;
+}
+
+void RgbdOdometry::bridgeLostFrames(FrameTracking& out) {
+  // A lost frame's pose is a guess given out live. Once a frame is measured on the same
+  // map again, the camera went from the last tracked pose to this one: the lost frames
+  // lie on that path (at constant velocity between the two), not where they were guessed.
+  if (out.state == TrackingState::Lost) {
+    lost_frames_.push_back({frame_number_, out.stamp});
+    return;
+  }
+  // A rejoin moved this pose into the old map's frame, the lost ones are in the new map's.
+  if (out.state == TrackingState::Tracking && !out.rejoined && config_.odometry.revise_lost && !lost_frames_.empty()) {
+    const Isometry step = T_world_last_tracked_.inverse() * out.T_world_camera;
+    const double span = out.stamp - last_tracked_stamp_;
+    for (const auto& [number, stamp] : lost_frames_) {
+      const double fraction = span > 0 ? (stamp - last_tracked_stamp_) / span : 0;
+      out.revised.push_back({number, stamp, T_world_last_tracked_ * scaledMotion(step, fraction)});
+    }
+  }
+  // A re-anchored frame starts from a guess too: nothing before it is bridged.
+  lost_frames_.clear();
+  T_world_last_tracked_ = out.T_world_camera;
+  last_tracked_stamp_ = out.stamp;
 }
 
 void RgbdOdometry::countRefound(FrameTracking& out) const {
@@ -381,7 +407,8 @@ void RgbdOdometry::decideTracking(const RefinementResult& refined, Isometry T_wo
   out.state = TrackingState::Lost;
   out.T_world_camera = T_world_pred;
   ++lost_streak_;
-  velocity_ = halved(velocity_);
+  // A lost frame's velocity may be the one that lost tracking: extrapolated less each frame.
+  velocity_ = scaledMotion(velocity_, 0.5);
 }
 
 void RgbdOdometry::labelAgainstPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_cur,

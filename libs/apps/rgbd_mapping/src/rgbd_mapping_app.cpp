@@ -143,6 +143,7 @@ class MappingRun {
   const bool realtime_;
   const Clock::time_point start_ = Clock::now();
   std::vector<datasets::StampedPose> groundtruth_, trajectory_;
+  std::vector<long> trajectory_frames_;  ///< the odometry's frame number of each trajectory pose
   std::optional<Isometry> T_anchor_;
   PipelineReport report_;
   StageStats odometry_stats_;
@@ -222,6 +223,14 @@ void MappingRun::track(const SourceFrame& f) {
   const vo::FrameTracking& tracking = *filters::trackingOf(ctx);  // the chain was checked to set it
   const Isometry T_world_camera = anchor(f, tracking.T_world_camera);
   trajectory_.push_back({f.frame.stamp, T_world_camera});
+  // Lost frames bridged once tracking resumed: the trajectory keeps the revised poses.
+  trajectory_frames_.push_back(tracking.frame_number);
+  for (const auto& r : tracking.revised)
+    for (size_t k = trajectory_frames_.size(); k-- > 0;)
+      if (trajectory_frames_[k] == r.frame_number) {
+        trajectory_[k].pose = *T_anchor_ * r.T_world_camera;
+        break;
+      }
   // The map thread gets its own mask: the chain may reuse its buffer for the next frame.
   if (map_stage_ && tracking.tracked())
     map_stage_->submit({f.frame, ctx.dynamic_mask.clone(), T_world_camera, tracking.new_keyframe});

@@ -36,6 +36,8 @@ struct OdometryOptions {
   double max_position_sigma = 0.10;     ///< m; a pose whose camera position is less well
                                         ///< determined than this (standard deviation along
                                         ///< its weakest direction) is lost (0 = no check)
+  bool revise_lost = true;              ///< once tracking resumes on the same map, the lost
+                                        ///< frames' poses are revised (FrameTracking::revised)
   double young_map_lost_still_share = 0.2;  ///< a lost frame stands still instead of
                                         ///< extrapolating the velocity when the map holds no
                                         ///< static evidence yet and at least this share of the
@@ -56,6 +58,8 @@ struct OdometryOptions {
       "frames a dynamic label is remembered along frame-to-frame matches (0 = off)");
     v("max_position_sigma", max_position_sigma, 0.0, 100.0,
       "m, lost when the position's standard deviation along its weakest direction exceeds this (0 = off)");
+    v("revise_lost", revise_lost,
+      "when tracking resumes on the same map, revise the lost frames' poses along the path between the tracked ones");
     v("young_map_lost_still_share", young_map_lost_still_share, 0.0, 2.0,
       "lost frames in a map without static evidence stand still when this share of the last tracked "
       "frame's labelled matches were dynamic (0 = always, above 1 = never)");
@@ -90,9 +94,20 @@ struct StageTimes {
 enum class TrackingState { Initialized, Tracking, Lost, Reanchored };
 const char* toString(TrackingState s);
 
-struct FrameTracking {
+/// A pose given out earlier, now known better.
+struct RevisedPose {
+  long frame_number = 0;  ///< FrameTracking::frame_number of that frame (stamps may repeat)
   double stamp = 0;
   Isometry T_world_camera = Isometry::Identity();
+};
+
+struct FrameTracking {
+  double stamp = 0;
+  long frame_number = 0;                ///< 1 for the first frame processed, then one more per frame
+  Isometry T_world_camera = Isometry::Identity();  ///< live: a lost frame's is the prediction
+  std::vector<RevisedPose> revised;     ///< on the first tracked frame after lost ones (same
+                                        ///< map): their poses, on the path between the two
+                                        ///< tracked poses around them ([Odometry] revise_lost)
   TrackingState state = TrackingState::Initialized;
   std::string lost_reason;              ///< why the frame is Lost, empty otherwise
   bool pose_undetermined = false;       ///< Lost with enough inliers: max_position_sigma
@@ -163,6 +178,7 @@ class RgbdOdometry {
   };
 
   void initialize(features::FeatureSet&& cur, double stamp, FrameTracking& out);
+  void bridgeLostFrames(FrameTracking& out);
   void matchToMap(const features::FeatureSet& cur, const Isometry& T_world_pred, const PinholeCamera& camera,
                   double stamp, MapTrack& track) const;
   void addStaticLandmarkMatches(const features::FeatureSet& ref, const features::FeatureSet& cur, double stamp,
@@ -216,6 +232,10 @@ class RgbdOdometry {
   bool initialized_ = false;
   Isometry T_world_last_ = Isometry::Identity();
   double last_stamp_ = 0;
+  Isometry T_world_last_tracked_ = Isometry::Identity();  ///< the last tracked (or first) frame's pose ...
+  double last_tracked_stamp_ = 0;                          ///< ... and stamp
+  long frame_number_ = 0;                                  ///< frames processed
+  std::vector<std::pair<long, double>> lost_frames_;       ///< the lost frames since (number, stamp), same map
   Isometry velocity_ = Isometry::Identity();  ///< last frame-to-frame motion
   bool velocity_known_ = false;               ///< false until a map's first tracked step
   double map_start_stamp_ = 0;                ///< when the current map started (young map)
