@@ -190,33 +190,78 @@ void RgbdOdometry::initialize(features::FeatureSet&& cur, double stamp, FrameTra
   map_start_stamp_ = last_stamp_ = last_tracked_stamp_ = stamp;
   T_world_last_tracked_ = Isometry::Identity();
   lost_frames_.clear();
+  map_frames_.clear();
+  lost_before_map_.clear();
   lost_streak_ = 0;
   last_tracked_static_landmarks_ = 0;
   last_tracked_dynamic_share_ = 0;
   initialized_ = true;
 }
 
+void RgbdOdometry::bridge(const std::vector<std::pair<long, double>>& lost, const Isometry& T_from, double from_stamp,
+                          const Isometry& T_to, double to_stamp, FrameTracking& out) {
+  // The camera went from T_from to T_to: the lost frames lie on that path (at constant
+  // velocity between the two), not where they were guessed.
+  const Isometry step = T_from.inverse() * T_to;
+  const double span = to_stamp - from_stamp;
+  for (const auto& [number, stamp] : lost) {
+    const double fraction = span > 0 ? (stamp - from_stamp) / span : 0;
+    out.revised.push_back({number, stamp, T_from * scaledMotion(step, fraction)});
+    for (auto it = map_frames_.rbegin(); it != map_frames_.rend(); ++it)
+      if (it->number == number) {
+        it->T_world_camera = out.revised.back().T_world_camera;
+        break;
+      }
+  }
+}
+
+void RgbdOdometry::reviseOnRejoin(const Isometry& T_old_new, FrameTracking& out) {
+  // The frames of the new map were given out in its frame, which the rejoin has just
+  // measured in the old map's: they move with it. The lost frames before the re-anchor
+  // (old map's frame) end at the re-anchored frame, now a measured pose.
+  for (auto& r : map_frames_) {
+    r.T_world_camera = T_old_new * r.T_world_camera;
+    out.revised.push_back({r.number, r.stamp, r.T_world_camera});
+  }
+  T_world_last_tracked_ = T_old_new * T_world_last_tracked_;
+  if (!map_frames_.empty())
+    bridge(lost_before_map_, T_tracked_before_map_, tracked_before_map_stamp_, map_frames_.front().T_world_camera,
+           map_frames_.front().stamp, out);
+  lost_before_map_.clear();
+  map_frames_.clear();  // in the old map's frame now, for good
+}
+
 void RgbdOdometry::bridgeLostFrames(FrameTracking& out) {
   // A lost frame's pose is a guess given out live. Once a frame is measured on the same
-  // map again, the camera went from the last tracked pose to this one: the lost frames
-  // lie on that path (at constant velocity between the two), not where they were guessed.
+  // map again, the camera went from the last tracked pose to this one (revisions are in
+  // order: a later one for the same frame supersedes an earlier one).
+  const bool revise = config_.odometry.revise_lost;
+  if (revise && out.rejoined && rejoin_correction_) reviseOnRejoin(*rejoin_correction_, out);
+  rejoin_correction_.reset();
+  // Only a map that may still be rejoined keeps its frames (a rejoin that gave up drops them).
+  if (!rejoin_.active()) map_frames_.clear(), lost_before_map_.clear();
   if (out.state == TrackingState::Lost) {
     lost_frames_.push_back({frame_number_, out.stamp});
+    if (rejoin_.active()) map_frames_.push_back({frame_number_, out.stamp, out.T_world_camera});
     return;
   }
-  // A rejoin moved this pose into the old map's frame, the lost ones are in the new map's.
-  if (out.state == TrackingState::Tracking && !out.rejoined && config_.odometry.revise_lost && !lost_frames_.empty()) {
-    const Isometry step = T_world_last_tracked_.inverse() * out.T_world_camera;
-    const double span = out.stamp - last_tracked_stamp_;
-    for (const auto& [number, stamp] : lost_frames_) {
-      const double fraction = span > 0 ? (stamp - last_tracked_stamp_) / span : 0;
-      out.revised.push_back({number, stamp, T_world_last_tracked_ * scaledMotion(step, fraction)});
-    }
+  if (out.state == TrackingState::Tracking && revise && !lost_frames_.empty())
+    bridge(lost_frames_, T_world_last_tracked_, last_tracked_stamp_, out.T_world_camera, out.stamp, out);
+  if (out.state == TrackingState::Reanchored && map_restarted_) {
+    // A re-anchored frame starts from a guess: nothing before it is bridged now, but once
+    // its map is rejoined to the one it left, the lost frames before it can be (not when
+    // an older map was already waiting: those frames are in a map that is never rejoined).
+    lost_before_map_.clear();
+    if (!rejoin_was_waiting_) lost_before_map_ = lost_frames_;
+    T_tracked_before_map_ = T_world_last_tracked_;
+    tracked_before_map_stamp_ = last_tracked_stamp_;
+    map_frames_.clear();
   }
-  // A re-anchored frame starts from a guess too: nothing before it is bridged.
+  map_restarted_ = false;
   lost_frames_.clear();
   T_world_last_tracked_ = out.T_world_camera;
   last_tracked_stamp_ = out.stamp;
+  if (rejoin_.active()) map_frames_.push_back({frame_number_, out.stamp, out.T_world_camera});
 }
 
 void RgbdOdometry::countRefound(FrameTracking& out) const {
@@ -474,6 +519,8 @@ void RgbdOdometry::startNewMap(const features::FeatureSet& cur, double stamp) {
   int with_depth = 0;
   for (size_t i = 0; i < cur.size(); ++i) with_depth += cur.hasDepth(static_cast<int>(i)) ? 1 : 0;
   if (with_depth < config_.odometry.min_matches) return;
+  map_restarted_ = true;
+  rejoin_was_waiting_ = rejoin_.active();
   rejoin_.freeze(map_.landmarksNotSeenMoving(stamp), stamp);
   map_start_stamp_ = stamp;
   map_.clear();
@@ -494,6 +541,7 @@ void RgbdOdometry::tryRejoin(const features::FeatureSet& cur, const PinholeCamer
   if (!T_old_new) return;
   // Everything of the new map moves; velocities are relative and stay.
   out.T_world_camera = orthonormalized(*T_old_new * out.T_world_camera);
+  rejoin_correction_ = *T_old_new;
   T_world_last_ = *T_old_new * T_world_last_;
   T_world_previous_ = *T_old_new * T_world_previous_;
   for (auto& kf : window_keyframes_) kf.T_world_kf = *T_old_new * kf.T_world_kf;
