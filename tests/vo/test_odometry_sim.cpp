@@ -3,6 +3,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <set>
 
@@ -307,28 +308,37 @@ TEST(OdometrySim, AReanchoredKeyframeStartsANewLocalMap) {
 /// Tracks 45 frames of a static scene, then 10 frames the map cannot explain (a fresh
 /// noise image each, the depth kept: the odometry re-anchors on the last one, seeding a
 /// map that the real frames after it cannot match either), then real frames until the
-/// odometry re-anchors again on one of them and tracks on. Returns the position error
-/// (against the truth, both relative to the first frame) of the last of `frames`, and
-/// the frame that rejoined the first map (-1: none).
-std::pair<double, int> errorAfterTwoReanchors(bool rejoin, int frames) {
+/// odometry re-anchors again on one of them and tracks on: `each(i, rendered frame,
+/// tracking)` for every frame, until it returns false.
+using ReanchorStep = std::function<bool(int, const gmc::sim::SimFrame&, const gmc::vo::FrameTracking&)>;
+void runTwoReanchors(const gmc::vo::OdometryConfig& config, int frames, const ReanchorStep& each) {
   const gmc::sim::Simulator sim(emptyHalfsphere());
-  gmc::vo::OdometryConfig config;
-  config.keyframes.reanchor_after_lost = 10;
-  config.rejoin.enabled = rejoin;
   gmc::vo::RgbdOdometry vo(config);
-  const gmc::Isometry T0_inv = sim.cameraPose(0).inverse();
-  int rejoined_at = -1;
-  double error = 0;
   for (int i = 0; i < frames; ++i) {
     const auto rendered = sim.renderFrame(i);
     const auto& f = rendered.frame;
     cv::Mat gray;
     cv::cvtColor(f.rgb, gray, cv::COLOR_BGR2GRAY);
     if (i >= 45 && i < 55) cv::randu(gray, cv::Scalar(0), cv::Scalar(256));
-    const auto t = vo.process(gray, f.depth, f.depth_units, f.camera, f.stamp);
+    if (!each(i, rendered, vo.process(gray, f.depth, f.depth_units, f.camera, f.stamp))) break;
+  }
+}
+
+/// That scenario's position error (against the truth, both relative to the first frame)
+/// at the last of `frames`, and the frame that rejoined the first map (-1: none).
+std::pair<double, int> errorAfterTwoReanchors(bool rejoin, int frames) {
+  gmc::vo::OdometryConfig config;
+  config.keyframes.reanchor_after_lost = 10;
+  config.rejoin.enabled = rejoin;
+  gmc::Isometry T0_inv = gmc::Isometry::Identity();
+  int rejoined_at = -1;
+  double error = 0;
+  runTwoReanchors(config, frames, [&](int i, const gmc::sim::SimFrame& rendered, const gmc::vo::FrameTracking& t) {
+    if (i == 0) T0_inv = rendered.T_world_camera.inverse();
     if (t.rejoined) rejoined_at = i;
     error = (t.T_world_camera.translation() - (T0_inv * rendered.T_world_camera).translation()).norm();
-  }
+    return true;
+  });
   return {error, rejoined_at};
 }
 
@@ -398,26 +408,19 @@ TEST(OdometrySim, LostFramesAreRevisedOntoThePathOnceTrackingResumes) {
   for (const auto& b : unrevised) EXPECT_FALSE(b.revised.has_value()) << "revise_lost=false revised a pose";
 }
 
-/// errorAfterTwoReanchors's scenario with the rejoin on: the worst position error over the
+/// runTwoReanchors's scenario with the rejoin on: the worst position error over the
 /// frames of the map that is rejoined (from its re-anchored frame to the frame before the
 /// rejoin), as the trajectory holds them once the revisions are applied.
 double worstErrorOfTheRejoinedMap(bool revise) {
-  const gmc::sim::Simulator sim(emptyHalfsphere());
   gmc::vo::OdometryConfig config;
   config.keyframes.reanchor_after_lost = 10;
   config.odometry.revise_lost = revise;
-  gmc::vo::RgbdOdometry vo(config);
-  const gmc::Isometry T0_inv = sim.cameraPose(0).inverse();
+  gmc::Isometry T0_inv = gmc::Isometry::Identity();
   std::vector<gmc::Isometry> poses, truth;
   std::vector<long> numbers;
   int reanchored_at = -1, rejoined_at = -1;
-  for (int i = 0; i < 110 && rejoined_at < 0; ++i) {
-    const auto rendered = sim.renderFrame(i);
-    cv::Mat gray;
-    cv::cvtColor(rendered.frame.rgb, gray, cv::COLOR_BGR2GRAY);
-    if (i >= 45 && i < 55) cv::randu(gray, cv::Scalar(0), cv::Scalar(256));
-    const auto& f = rendered.frame;
-    const auto t = vo.process(gray, f.depth, f.depth_units, f.camera, f.stamp);
+  runTwoReanchors(config, 110, [&](int i, const gmc::sim::SimFrame& rendered, const gmc::vo::FrameTracking& t) {
+    if (i == 0) T0_inv = rendered.T_world_camera.inverse();
     poses.push_back(t.T_world_camera);
     truth.push_back(T0_inv * rendered.T_world_camera);
     numbers.push_back(t.frame_number);
@@ -426,7 +429,8 @@ double worstErrorOfTheRejoinedMap(bool revise) {
         if (numbers[k] == r.frame_number) poses[k] = r.T_world_camera;
     if (t.state == gmc::vo::TrackingState::Reanchored) reanchored_at = i;
     if (t.rejoined) rejoined_at = i;
-  }
+    return rejoined_at < 0;
+  });
   EXPECT_GT(rejoined_at, reanchored_at);
   EXPECT_GT(reanchored_at, 55);  // the second re-anchor, on a real frame
   double worst = 0;
