@@ -207,11 +207,10 @@ void RgbdOdometry::bridge(const std::vector<std::pair<long, double>>& lost, cons
   for (const auto& [number, stamp] : lost) {
     const double fraction = span > 0 ? (stamp - from_stamp) / span : 0;
     out.revised.push_back({number, stamp, T_from * scaledMotion(step, fraction)});
-    for (auto it = map_frames_.rbegin(); it != map_frames_.rend(); ++it)
-      if (it->number == number) {
-        it->T_world_camera = out.revised.back().T_world_camera;
-        break;
-      }
+    // Frame numbers increase: the record (kept while a rejoin may come) by bisection.
+    const auto it = std::lower_bound(map_frames_.begin(), map_frames_.end(), number,
+                                     [](const PoseRecord& r, long n) { return r.number < n; });
+    if (it != map_frames_.end() && it->number == number) it->T_world_camera = out.revised.back().T_world_camera;
   }
 }
 
@@ -236,7 +235,7 @@ void RgbdOdometry::bridgeLostFrames(FrameTracking& out) {
   // map again, the camera went from the last tracked pose to this one (revisions are in
   // order: a later one for the same frame supersedes an earlier one).
   const bool revise = config_.odometry.revise_lost;
-  if (revise && out.rejoined && rejoin_correction_) reviseOnRejoin(*rejoin_correction_, out);
+  if (revise && rejoin_correction_) reviseOnRejoin(*rejoin_correction_, out);  // set only on a rejoin
   rejoin_correction_.reset();
   // Only a map that may still be rejoined keeps its frames (a rejoin that gave up drops them).
   if (!rejoin_.active()) map_frames_.clear(), lost_before_map_.clear();

@@ -223,14 +223,14 @@ void MappingRun::track(const SourceFrame& f) {
   const vo::FrameTracking& tracking = *filters::trackingOf(ctx);  // the chain was checked to set it
   const Isometry T_world_camera = anchor(f, tracking.T_world_camera);
   trajectory_.push_back({f.frame.stamp, T_world_camera});
-  // Lost frames bridged once tracking resumed: the trajectory keeps the revised poses.
+  // Poses revised later (lost frames bridged, a rejoined map's frames): the trajectory
+  // keeps the revised ones. Frame numbers increase, so they are found by bisection.
   trajectory_frames_.push_back(tracking.frame_number);
-  for (const auto& r : tracking.revised)
-    for (size_t k = trajectory_frames_.size(); k-- > 0;)
-      if (trajectory_frames_[k] == r.frame_number) {
-        trajectory_[k].pose = *T_anchor_ * r.T_world_camera;
-        break;
-      }
+  for (const auto& r : tracking.revised) {
+    const auto it = std::lower_bound(trajectory_frames_.begin(), trajectory_frames_.end(), r.frame_number);
+    if (it != trajectory_frames_.end() && *it == r.frame_number)
+      trajectory_[static_cast<size_t>(it - trajectory_frames_.begin())].pose = *T_anchor_ * r.T_world_camera;
+  }
   // The map thread gets its own mask: the chain may reuse its buffer for the next frame.
   if (map_stage_ && tracking.tracked())
     map_stage_->submit({f.frame, ctx.dynamic_mask.clone(), T_world_camera, tracking.new_keyframe});

@@ -4,8 +4,8 @@
 #include <opencv2/core.hpp>
 
 #include <cstdint>
-#include <string>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "gmc/features/frontend.h"
