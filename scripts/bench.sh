@@ -13,7 +13,10 @@
 # Timing runs are repeated ([Bench] repeats) and reported as the median with the
 # min-max spread; trajectories are deterministic (checked: every repeat must give a
 # byte-identical trajectory). [Bench] start_offsets adds an ATE spread over runs started
-# a few frames later (keyframes fall elsewhere). Timing is only fair on an idle machine.
+# a few frames later (keyframes fall elsewhere). [seq] window = N (and window_step = S,
+# default 10) adds the window study of scripts/window_eval.py: the whole sequence and
+# N-frame windows starting every S frames, each next to the ATE of a camera that never
+# moves over the same frames. Timing is only fair on an idle machine.
 set -euo pipefail
 # cd to the repository root, setup.sh, build these apps; sets $root and $bin
 # shellcheck source=lib/prologue.sh
@@ -92,7 +95,7 @@ for config in "${configs[@]}"; do
   offsets="$(csv_list "$(ini_get "$config" Bench start_offsets "")")"
   csv="$dir/results.csv.tmp"
   echo "sequence,method,frames,ate_rmse_m,ate_mae_m,rpe_t_rmse_m,rpe_t_mae_m,rpe_r_rmse_deg,rpe_r_mae_deg,ms_per_frame_median,ms_min,ms_max" > "$csv"
-  t1="" t2="" t3="" t4="" t5="" t6="" skipped=""
+  t1="" t2="" t3="" t4="" t5="" t6="" t7="" skipped=""
   for seq in $(ini_sections "$config"); do
     gen="$(ini_get "$config" "$seq" generate "")"
     cfg="$(ini_get "$config" "$seq" config config/default.ini)"
@@ -215,8 +218,17 @@ for config in "${configs[@]}"; do
           "$bin/gmc-eval" --gt "$gt" --est "$run/trajectory_tum.txt" --json "$run/eval.json" >/dev/null
           ates+=("$(json "$run/eval.json" ate.rmse)")
         done
-        t6="$t6\n| $seq | $(method_name "$m") | $(printf '%.3f ' "${ates[@]}")| $(spread '%.3f' "${ates[@]}") |"
+        t6="$t6\n| $seq | $(method_name "$m") | $(printf '%.4f ' "${ates[@]}")| $(spread '%.4f' "${ates[@]}") |"
       done
+    fi
+    # Window study (GMC odometry, map off): the whole sequence and windows, each with the
+    # standing-still ATE of its own frames.
+    window="$(ini_get "$config" "$seq" window "")"
+    if [ -n "$window" ]; then
+      wj="$dir/run/$seq-windows.json"
+      python3 "$root/scripts/window_eval.py" --bin "$bin" --config "$cfg" --window "$window" \
+        --step "$(ini_get "$config" "$seq" window_step 10)" --json "$wj" "$path" >"$dir/run/$seq-windows.md"
+      t7="$t7\n$(data windows "$wj" "$seq")"
     fi
   done
 
@@ -260,6 +272,17 @@ for config in "${configs[@]}"; do
       echo "| sequence | method | per offset | median [min-max] |"
       echo "|---|---|---|---|"
       echo -e "${t6#\\n}"
+    fi
+    if [ -n "$t7" ]; then
+      echo
+      echo "### GMC odometry over windows, next to standing still (scripts/window_eval.py)"
+      echo
+      echo "ATE (m) of the whole sequence and of windows of [seq] window frames starting every"
+      echo "window_step frames; in brackets, a camera that never moves over the same frames."
+      echo
+      echo "| sequence | whole (standing still) | windows median / max | windows below standing still | per window: first frame: ATE (standing still) |"
+      echo "|---|---|---|---|---|"
+      echo -e "${t7#\\n}"
     fi
     [ -n "$skipped" ] && echo -e "\nSkipped:$skipped"
     echo

@@ -7,6 +7,8 @@
   bench_data.py json FILE PATH [FORMAT]              value at a dotted PATH (ms.total.median)
   bench_data.py eval FILE                            "ate_rmse ate_mae rpe_t_rmse rpe_t_mae
                                                       rpe_r_rmse rpe_r_mae" from gmc-eval --json
+  bench_data.py windows FILE NAME                    one Markdown row of scripts/window_eval.py's
+                                                      --json for sequence NAME
 
 A missing file, section, key or path is one line on stderr and exit code 1. JSON null (a
 NaN the app could not spell) prints as "nan".
@@ -76,15 +78,33 @@ def eval_line(path):
     return " ".join(fmt % json_value(path, key) for key, fmt in keys)
 
 
+def windows_row(path, name):
+    """| whole (standing still) | windows median / max | below standing still | per window |"""
+    try:
+        with open(path, encoding="utf-8") as f:
+            report = json.load(f)
+    except (OSError, ValueError) as e:
+        fail(f"{path}: {e}")
+    if len(report) != 1:
+        fail(f"{path}: expected one sequence, got {len(report)}")
+    r = next(iter(report.values()))
+    whole, wins = r["whole"], r["windows"]
+    per_window = " ".join("%d: %.3f (%.3f)" % (w["first"], w["ate"], w["still"]) for w in wins)
+    return "| %s | %.4f (%.3f) | %.4f / %.3f | %d of %d | %s |" % (
+        name, whole["ate"], whole["still"], r["window_median"], r["window_max"],
+        r["windows_below_still"], len(wins), per_window)
+
+
 def main(argv):
     commands = {
         "ini-get": (3, 4, lambda a: ini_get(*a)),
         "ini-sections": (1, 1, lambda a: ini_sections(a[0])),
         "json": (2, 3, lambda a: formatted(json_value(a[0], a[1]), *a[2:])),
         "eval": (1, 1, lambda a: eval_line(a[0])),
+        "windows": (2, 2, lambda a: windows_row(a[0], a[1])),
     }
     if not argv or argv[0] not in commands:
-        fail("usage: bench_data.py ini-get|ini-sections|json|eval ... (see the file's docstring)")
+        fail("usage: bench_data.py ini-get|ini-sections|json|eval|windows ... (see the file's docstring)")
     low, high, run = commands[argv[0]]
     args = argv[1:]
     if not low <= len(args) <= high:
