@@ -51,12 +51,16 @@ def ini_sections(path):
     return "\n".join(s for s in read_ini(path).sections() if s != "Bench")
 
 
-def json_value(path, dotted):
+def read_json(path):
     try:
         with open(path, encoding="utf-8") as f:
-            value = json.load(f)
+            return json.load(f)
     except (OSError, ValueError) as e:
         fail(f"{path}: {e}")
+
+
+def json_value(path, dotted):
+    value = read_json(path)
     for part in dotted.split("."):
         if not isinstance(value, dict) or part not in value:
             fail(f"{path}: no {dotted}")
@@ -80,11 +84,7 @@ def eval_line(path):
 
 def windows_row(path, name):
     """| whole (standing still) | windows median / max | below standing still | per window |"""
-    try:
-        with open(path, encoding="utf-8") as f:
-            report = json.load(f)
-    except (OSError, ValueError) as e:
-        fail(f"{path}: {e}")
+    report = read_json(path)
     if len(report) != 1:
         fail(f"{path}: expected one sequence, got {len(report)}")
     r = next(iter(report.values()))
