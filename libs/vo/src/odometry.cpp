@@ -187,8 +187,8 @@ void RgbdOdometry::initialize(features::FeatureSet&& cur, double stamp, FrameTra
   previous_memory_.assign(previous_.size(), 0);
   T_world_previous_ = T_world_last_ = velocity_ = Isometry::Identity();
   velocity_known_ = false;
-  map_start_stamp_ = last_stamp_ = last_tracked_stamp_ = stamp;
-  T_world_last_tracked_ = Isometry::Identity();
+  map_start_stamp_ = last_stamp_ = stamp;
+  last_tracked_ = {frame_number_, stamp, Isometry::Identity()};
   lost_frames_.clear();
   map_frames_.clear();
   lost_before_map_.clear();
@@ -198,19 +198,19 @@ void RgbdOdometry::initialize(features::FeatureSet&& cur, double stamp, FrameTra
   initialized_ = true;
 }
 
-void RgbdOdometry::bridge(const std::vector<std::pair<long, double>>& lost, const Isometry& T_from, double from_stamp,
-                          const Isometry& T_to, double to_stamp, FrameTracking& out) {
-  // The camera went from T_from to T_to: the lost frames lie on that path (at constant
-  // velocity between the two), not where they were guessed.
-  const Isometry step = T_from.inverse() * T_to;
-  const double span = to_stamp - from_stamp;
+void RgbdOdometry::bridge(const std::vector<std::pair<long, double>>& lost, const RevisedPose& from,
+                          const RevisedPose& to, FrameTracking& out) {
+  // The camera went from one pose to the other: the lost frames lie on that path (at
+  // constant velocity between the two), not where they were guessed.
+  const Isometry step = from.T_world_camera.inverse() * to.T_world_camera;
+  const double span = to.stamp - from.stamp;
   for (const auto& [number, stamp] : lost) {
-    const double fraction = span > 0 ? (stamp - from_stamp) / span : 0;
-    out.revised.push_back({number, stamp, T_from * scaledMotion(step, fraction)});
+    const double fraction = span > 0 ? (stamp - from.stamp) / span : 0;
+    out.revised.push_back({number, stamp, from.T_world_camera * scaledMotion(step, fraction)});
     // Frame numbers increase: the record (kept while a rejoin may come) by bisection.
     const auto it = std::lower_bound(map_frames_.begin(), map_frames_.end(), number,
-                                     [](const PoseRecord& r, long n) { return r.number < n; });
-    if (it != map_frames_.end() && it->number == number) it->T_world_camera = out.revised.back().T_world_camera;
+                                     [](const RevisedPose& r, long n) { return r.frame_number < n; });
+    if (it != map_frames_.end() && it->frame_number == number) it->T_world_camera = out.revised.back().T_world_camera;
   }
 }
 
@@ -220,12 +220,10 @@ void RgbdOdometry::reviseOnRejoin(const Isometry& T_old_new, FrameTracking& out)
   // (old map's frame) end at the re-anchored frame, now a measured pose.
   for (auto& r : map_frames_) {
     r.T_world_camera = T_old_new * r.T_world_camera;
-    out.revised.push_back({r.number, r.stamp, r.T_world_camera});
+    out.revised.push_back(r);
   }
-  T_world_last_tracked_ = T_old_new * T_world_last_tracked_;
-  if (!map_frames_.empty())
-    bridge(lost_before_map_, T_tracked_before_map_, tracked_before_map_stamp_, map_frames_.front().T_world_camera,
-           map_frames_.front().stamp, out);
+  last_tracked_.T_world_camera = T_old_new * last_tracked_.T_world_camera;
+  if (!map_frames_.empty()) bridge(lost_before_map_, tracked_before_map_, map_frames_.front(), out);
   lost_before_map_.clear();
   map_frames_.clear();  // in the old map's frame now, for good
 }
@@ -235,32 +233,34 @@ void RgbdOdometry::bridgeLostFrames(FrameTracking& out) {
   // map again, the camera went from the last tracked pose to this one (revisions are in
   // order: a later one for the same frame supersedes an earlier one).
   const bool revise = config_.odometry.revise_lost;
+  const RevisedPose current{frame_number_, out.stamp, out.T_world_camera};
   if (revise && rejoin_correction_) reviseOnRejoin(*rejoin_correction_, out);  // set only on a rejoin
   rejoin_correction_.reset();
   // Only a map that may still be rejoined keeps its frames (a rejoin that gave up drops them).
-  if (!rejoin_.active()) map_frames_.clear(), lost_before_map_.clear();
+  if (!rejoin_.active()) {
+    map_frames_.clear();
+    lost_before_map_.clear();
+  }
   if (out.state == TrackingState::Lost) {
     lost_frames_.push_back({frame_number_, out.stamp});
-    if (rejoin_.active()) map_frames_.push_back({frame_number_, out.stamp, out.T_world_camera});
+    if (rejoin_.active()) map_frames_.push_back(current);
     return;
   }
   if (out.state == TrackingState::Tracking && revise && !lost_frames_.empty())
-    bridge(lost_frames_, T_world_last_tracked_, last_tracked_stamp_, out.T_world_camera, out.stamp, out);
+    bridge(lost_frames_, last_tracked_, current, out);
   if (out.state == TrackingState::Reanchored && map_restarted_) {
     // A re-anchored frame starts from a guess: nothing before it is bridged now, but once
     // its map is rejoined to the one it left, the lost frames before it can be (not when
     // an older map was already waiting: those frames are in a map that is never rejoined).
     lost_before_map_.clear();
     if (!rejoin_was_waiting_) lost_before_map_ = lost_frames_;
-    T_tracked_before_map_ = T_world_last_tracked_;
-    tracked_before_map_stamp_ = last_tracked_stamp_;
+    tracked_before_map_ = last_tracked_;
     map_frames_.clear();
   }
   map_restarted_ = false;
   lost_frames_.clear();
-  T_world_last_tracked_ = out.T_world_camera;
-  last_tracked_stamp_ = out.stamp;
-  if (rejoin_.active()) map_frames_.push_back({frame_number_, out.stamp, out.T_world_camera});
+  last_tracked_ = current;
+  if (rejoin_.active()) map_frames_.push_back(current);
 }
 
 void RgbdOdometry::countRefound(FrameTracking& out) const {

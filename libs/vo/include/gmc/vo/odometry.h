@@ -181,8 +181,8 @@ class RgbdOdometry {
   void initialize(features::FeatureSet&& cur, double stamp, FrameTracking& out);
   void bridgeLostFrames(FrameTracking& out);
   void reviseOnRejoin(const Isometry& T_old_new, FrameTracking& out);
-  void bridge(const std::vector<std::pair<long, double>>& lost, const Isometry& T_from, double from_stamp,
-              const Isometry& T_to, double to_stamp, FrameTracking& out);
+  void bridge(const std::vector<std::pair<long, double>>& lost, const RevisedPose& from, const RevisedPose& to,
+              FrameTracking& out);
   void matchToMap(const features::FeatureSet& cur, const Isometry& T_world_pred, const PinholeCamera& camera,
                   double stamp, MapTrack& track) const;
   void addStaticLandmarkMatches(const features::FeatureSet& ref, const features::FeatureSet& cur, double stamp,
@@ -236,20 +236,13 @@ class RgbdOdometry {
   bool initialized_ = false;
   Isometry T_world_last_ = Isometry::Identity();
   double last_stamp_ = 0;
-  Isometry T_world_last_tracked_ = Isometry::Identity();  ///< the last tracked (or first) frame's pose ...
-  double last_tracked_stamp_ = 0;                          ///< ... and stamp
+  RevisedPose last_tracked_;                               ///< the last tracked (or first) frame
   long frame_number_ = 0;                                  ///< frames processed
   std::vector<std::pair<long, double>> lost_frames_;       ///< the lost frames since (number, stamp), same map
-  /// A frame's pose as given out or last revised, while its map may still move (a rejoin).
-  struct PoseRecord {
-    long number = 0;
-    double stamp = 0;
-    Isometry T_world_camera = Isometry::Identity();
-  };
-  std::vector<PoseRecord> map_frames_;                      ///< frames since the current map started
+  std::vector<RevisedPose> map_frames_;                     ///< frames since the current map started, as
+                                                           ///< given out or last revised (a rejoin moves them)
   std::vector<std::pair<long, double>> lost_before_map_;    ///< lost frames right before it (old map's frame) ...
-  Isometry T_tracked_before_map_ = Isometry::Identity();    ///< ... after this tracked pose ...
-  double tracked_before_map_stamp_ = 0;                     ///< ... at this stamp
+  RevisedPose tracked_before_map_;                          ///< ... after this tracked frame
   std::optional<Isometry> rejoin_correction_;               ///< this frame's rejoin: old map <- new map
   bool map_restarted_ = false;                              ///< this frame's re-anchor started a new map ...
   bool rejoin_was_waiting_ = false;                         ///< ... while an older one waited to be rejoined
