@@ -158,7 +158,7 @@ bool applyChain(FilterChain& chain, mrpt::obs::CObservation3DRangeScan& obs,
 // ---------------------------------------------------------------- gmc
 std::vector<std::string> GmcFilter::sections(const std::string& section) const {
   return {section,      "Frontend",  "GMS",       "GMC",    "Odometry",
-          "Refinement", "LocalMap", "Background", "Keyframes", "Window", "Rejoin", "DynamicMask"};
+          "Refinement", "LocalMap", "Background", "Keyframes", "Window", "Rejoin", "StartConsensus", "DynamicMask"};
 }
 
 void GmcFilter::initialize(const mrpt::config::CConfigFileBase& ini, const std::string& section,
@@ -174,6 +174,7 @@ void GmcFilter::initialize(const mrpt::config::CConfigFileBase& ini, const std::
   cfg::loadSection(ini, "Keyframes", odometry_config_.keyframes, source);
   cfg::loadSection(ini, "Window", odometry_config_.window, source);
   cfg::loadSection(ini, "Rejoin", odometry_config_.rejoin, source);
+  cfg::loadSection(ini, "StartConsensus", odometry_config_.start_consensus, source);
   cfg::loadSection(ini, "DynamicMask", mask_options_, source);
   odometry_ = std::make_unique<vo::RgbdOdometry>(odometry_config_);
   // GMC off is the run without the filter (the paper's baseline): no dynamic evidence at
@@ -198,6 +199,7 @@ void GmcFilter::save(mrpt::config::CConfigFileBase& out, const std::string& sect
   cfg::saveSection(out, "Keyframes", odometry.keyframes);
   cfg::saveSection(out, "Window", odometry.window);
   cfg::saveSection(out, "Rejoin", odometry.rejoin);
+  cfg::saveSection(out, "StartConsensus", odometry.start_consensus);
   cfg::saveSection(out, "DynamicMask", mask);
 }
 

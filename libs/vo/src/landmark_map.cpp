@@ -149,6 +149,21 @@ void LandmarkMap::observe(const std::vector<LandmarkObservation>& observations,
   }
 }
 
+void LandmarkMap::judgeStart(const std::vector<std::pair<int, Eigen::Vector3d>>& consensus,
+                             const std::vector<int>& outside, int first_keyframe, double since, double stamp) {
+  for (auto& l : landmarks_)
+    if (l.keyframe > first_keyframe) l.alive = false;
+  for (const auto& [id, position] : consensus) {
+    Landmark& l = landmarks_[static_cast<size_t>(id)];
+    l.position = position;
+    l.suspect_until = -std::numeric_limits<double>::infinity();
+    l.evidence_since = since;
+    l.last_seen_in_place = stamp;
+    l.moved_streak = 0;
+  }
+  for (int id : outside) landmarks_[static_cast<size_t>(id)].suspect_until = stamp + options_.suspect_seconds;
+}
+
 std::vector<int> LandmarkMap::cull(double stamp) {
   for (size_t i = 0; i < landmarks_.size(); ++i) {
     Landmark& l = landmarks_[i];

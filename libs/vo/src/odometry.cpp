@@ -68,6 +68,7 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
       map_(config.local_map),
       rejoin_(config.rejoin, config.refinement,
               InPlaceThreshold{config.background.inlier_base, config.background.inlier_per_m2}),
+      consensus_(config.start_consensus),
       gmc_previous_(config.gmc) {}
 
 Isometry RgbdOdometry::predictPose() const {
@@ -137,6 +138,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   out.times.refine += msSince(t0);
   const bool after_lost_frames = lost_streak_ > 0;
   decideTracking(refined, orthonormalized(refined.T_cur_ref).inverse(), choice_.trustworthy, T_world_pred, out);
+  judgeStart(stamp, out);
   if (out.state == TrackingState::Tracking && rejoin_.active()) tryRejoin(cur, camera, stamp, out);
 
   // 5. Labels for the mask from the previous frame; dynamic memory.
@@ -182,6 +184,7 @@ void RgbdOdometry::initialize(features::FeatureSet&& cur, double stamp, FrameTra
   track_.matched.assign(cur.size(), 0);
   keyframe_policy_.reset(Isometry::Identity());
   addKeyframe(cur, stamp, out);
+  startConsensus();
   out.map_landmarks = static_cast<int>(map_.numAlive());
   previous_ = std::move(cur);
   previous_memory_.assign(previous_.size(), 0);
@@ -207,11 +210,72 @@ void RgbdOdometry::bridge(const std::vector<std::pair<long, double>>& lost, cons
   for (const auto& [number, stamp] : lost) {
     const double fraction = span > 0 ? (stamp - from.stamp) / span : 0;
     out.revised.push_back({number, stamp, from.T_world_camera * scaledMotion(step, fraction)});
-    // Frame numbers increase: the record (kept while a rejoin may come) by bisection.
-    const auto it = std::lower_bound(map_frames_.begin(), map_frames_.end(), number,
-                                     [](const RevisedPose& r, long n) { return r.frame_number < n; });
-    if (it != map_frames_.end() && it->frame_number == number) it->T_world_camera = out.revised.back().T_world_camera;
+    reviseRecord(out.revised.back());
   }
+}
+
+void RgbdOdometry::reviseRecord(const RevisedPose& revised) {
+  // Frame numbers increase: the record (kept while a rejoin may come) by bisection.
+  const auto it = std::lower_bound(map_frames_.begin(), map_frames_.end(), revised.frame_number,
+                                   [](const RevisedPose& r, long n) { return r.frame_number < n; });
+  if (it != map_frames_.end() && it->frame_number == revised.frame_number) it->T_world_camera = revised.T_world_camera;
+}
+
+void RgbdOdometry::startConsensus() {
+  std::vector<std::pair<int, Eigen::Vector3d>> anchors;
+  for (size_t id = 0; id < map_.size(); ++id)
+    if (map_[static_cast<int>(id)].alive) anchors.emplace_back(static_cast<int>(id), map_[static_cast<int>(id)].position);
+  consensus_.start(anchors);
+  map_first_keyframe_ = keyframe_count_ - 1;
+}
+
+void RgbdOdometry::judgeStart(double stamp, FrameTracking& out) {
+  if (!consensus_.active()) return;
+  ConsensusFrame frame;
+  frame.frame_number = frame_number_;
+  frame.stamp = stamp;
+  frame.T_world_given = out.T_world_camera;
+  for (size_t k = 0; k < track_.motion.size(); ++k)
+    frame.observations.emplace_back(track_.landmark[k], track_.motion[k].point_cur);
+  consensus_.add(frame);
+  const auto& b = config_.background;
+  const ConsensusResult consensus = consensus_.solve(InPlaceThreshold{b.inlier_base, b.inlier_per_m2});
+  if (!consensus.found || consensus.score < config_.start_consensus.min_gain * consensus.given_score) return;
+  if (static_cast<int>(consensus.inliers_latest.size()) < config_.odometry.min_static_inliers) return;
+  adoptConsensus(consensus, stamp, out);
+}
+
+void RgbdOdometry::adoptConsensus(const ConsensusResult& consensus, double stamp, FrameTracking& out) {
+  const auto& frames = consensus_.frames();
+  const size_t n = frames.size();
+  for (size_t f = 0; f + 1 < n; ++f) {
+    out.revised.push_back({frames[f].frame_number, frames[f].stamp, orthonormalized(consensus.T_world_camera[f])});
+    reviseRecord(out.revised.back());
+  }
+  consensus_.revise(consensus.T_world_camera);
+  out.T_world_camera = orthonormalized(consensus.T_world_camera.back());
+  out.num_inliers = static_cast<int>(consensus.inliers_latest.size());
+  if (out.state == TrackingState::Lost) {
+    out.state = TrackingState::Tracking;
+    out.lost_reason.clear();
+    out.background_untrusted = out.pose_undetermined = false;
+  }
+  out.start_consensus = true;
+  lost_streak_ = 0;
+  // Every earlier frame of this map is revised: none is left to bridge, and the step into
+  // this frame is the consensus' own.
+  lost_frames_.clear();
+  const Isometry& T_world_before = out.revised.back().T_world_camera;
+  last_tracked_ = out.revised.back();
+  T_world_last_ = T_world_previous_ = T_world_before;
+  velocity_ = T_world_before.inverse() * out.T_world_camera;
+  velocity_known_ = true;
+  // The landmarks: the consensus is where the first keyframe put them; the rest moved.
+  map_.judgeStart(consensus.consensus, consensus.outside, map_first_keyframe_, map_start_stamp_, stamp);
+  if (window_keyframes_.size() > 1 && keyframe_count_ - map_first_keyframe_ <= static_cast<int>(window_keyframes_.size()))
+    window_keyframes_.erase(window_keyframes_.begin() + 1, window_keyframes_.end());
+  keyframe_policy_.reset(window_keyframes_.front().T_world_kf);
+  pose_landmarks_ = consensus.inliers_latest;
 }
 
 void RgbdOdometry::reviseOnRejoin(const Isometry& T_old_new, FrameTracking& out) {
@@ -511,6 +575,7 @@ void RgbdOdometry::updateMap(const features::FeatureSet& cur, double stamp, Fram
   }
   out.new_keyframe = true;
   addKeyframe(cur, stamp, out);
+  if (map_restarted_) startConsensus();
 }
 
 void RgbdOdometry::startNewMap(const features::FeatureSet& cur, double stamp) {
@@ -547,6 +612,7 @@ void RgbdOdometry::tryRejoin(const features::FeatureSet& cur, const PinholeCamer
   keyframe_policy_.transform(*T_old_new);
   map_.transform(*T_old_new);
   map_.adopt(rejoin_.release());
+  consensus_.stop();  // the map joins one with evidence
   out.rejoined = true;
 }
 
@@ -577,6 +643,7 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
   for (int id : pose_landmarks_)
     if (remap[static_cast<size_t>(id)] >= 0) kept_ids.push_back(remap[static_cast<size_t>(id)]);
   pose_landmarks_.swap(kept_ids);
+  consensus_.remap(remap);
   for (auto& w : window_keyframes_) {
     std::vector<WindowObservation> kept;
     for (auto ob : w.observations) {

@@ -227,7 +227,7 @@ void MemorySampler::onEnd(PipelineReport&, const mapping::StaticMapBuilder*) {
 }
 
 TrackingLog::TrackingLog(std::string out_dir) : dir_(std::move(out_dir)) {
-  csv_ << "frame,stamp,state,keyframe,window_shift,window_discarded,rejoined,background,matches,static,dynamic,"
+  csv_ << "frame,stamp,state,keyframe,window_shift,window_discarded,rejoined,start_consensus,background,matches,static,dynamic,"
           "inliers,static_landmarks_matched,static_landmarks_agreeing,landmarks_to_refind,landmarks_refound,gmc_clusters,"
           "gmc_static_fallback,position_sigma,pixel_error_median,depth_error_median,x,y,z,qx,qy,qz,qw,lost_reason\n"
        << std::fixed << std::setprecision(6);
@@ -242,7 +242,7 @@ void TrackingLog::onFrame(const FrameEvent& e) {
   std::replace(reason.begin(), reason.end(), '"', '\'');
   std::replace(reason.begin(), reason.end(), ',', ';');
   csv_ << e.report.frames << "," << t.stamp << "," << vo::toString(t.state) << "," << t.new_keyframe << ","
-       << t.window_shift << "," << t.window_discarded << "," << t.rejoined << "," << t.background_source << ","
+       << t.window_shift << "," << t.window_discarded << "," << t.rejoined << "," << t.start_consensus << "," << t.background_source << ","
        << t.num_matches << ","
        << t.num_static << "," << t.num_dynamic << "," << t.num_inliers << "," << t.static_landmarks_matched << ","
        << t.static_landmarks_agreeing << "," << t.landmarks_to_refind << "," << t.landmarks_refound << ","

@@ -62,6 +62,7 @@ void PipelineReport::addFrame(const vo::FrameTracking& t, double pipeline_ms) {
   if (t.new_keyframe) ++keyframes;
   if (t.window_discarded) ++windows_discarded;
   if (t.rejoined) ++rejoined;
+  if (t.start_consensus) ++start_consensus;
   static_matches += static_cast<size_t>(t.num_static);
   dynamic_matches += static_cast<size_t>(t.num_dynamic);
   frontend_ms.push_back(t.times.frontend);
@@ -110,6 +111,7 @@ std::string PipelineReport::toJson() const {
             {"reanchored", reanchored},  {"dropped", dropped},
             {"skipped", skipped},        {"keyframes", keyframes},
             {"windows_discarded", windows_discarded}, {"rejoined", rejoined},
+            {"start_consensus", start_consensus},
             {"map_inserts", map_inserts}, {"map_skipped", map_skipped},
             {"interrupted", interrupted}, {"wall_seconds", wall_seconds},
             {"peak_rss_mb", peak_rss_mb}, {"fps", wall_seconds > 0 ? frames / wall_seconds : 0.0},
@@ -142,7 +144,7 @@ std::string PipelineReport::toText() const {
   os << std::fixed << std::setprecision(2);
   os << "frames " << frames << "  tracked " << tracked << "  lost " << lost << "  dropped "
      << dropped << "  skipped " << skipped << "  keyframes " << keyframes << "  re-anchored " << reanchored
-     << "  rejoined " << rejoined << "  map skipped " << map_skipped << (interrupted ? "  (interrupted)" : "") << "\n";
+     << "  rejoined " << rejoined << "  start consensus " << start_consensus << "  map skipped " << map_skipped << (interrupted ? "  (interrupted)" : "") << "\n";
   auto line = [&](const char* name, const std::vector<double>& v) {
     const auto p = Percentiles::of(v);
     os << "  " << std::left << std::setw(11) << name << std::right << std::setw(8) << p.median

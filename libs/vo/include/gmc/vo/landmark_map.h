@@ -128,6 +128,12 @@ class LandmarkMap {
   /// Appends landmarks as they are (positions in this map's frame, evidence kept).
   void adopt(const std::vector<Landmark>& landmarks);
 
+  /// A young map's start consensus (StartConsensus) was taken: its landmarks go back to
+  /// where the first keyframe put them, in place since `since`; those outside it are
+  /// suspect; landmarks of later keyframes were placed from poses now revised and go.
+  void judgeStart(const std::vector<std::pair<int, Eigen::Vector3d>>& consensus, const std::vector<int>& outside,
+                  int first_keyframe, double since, double stamp);
+
   /// Moves a landmark (windowed optimisation).
   void setPosition(int id, const Eigen::Vector3d& p) { landmarks_[static_cast<size_t>(id)].position = p; }
 

@@ -15,6 +15,7 @@
 #include "gmc/vo/landmark_map.h"
 #include "gmc/vo/map_rejoin.h"
 #include "gmc/vo/pose_refinement.h"
+#include "gmc/vo/start_consensus.h"
 #include "gmc/vo/window_optimizer.h"
 
 namespace gmc::vo {
@@ -79,6 +80,7 @@ struct OdometryConfig {
   KeyframeOptions keyframes;           ///< [Keyframes]
   WindowOptions window;                ///< [Window]
   RejoinOptions rejoin;                ///< [Rejoin]
+  StartConsensusOptions start_consensus;  ///< [StartConsensus]
 };
 
 /// Milliseconds spent per stage for one frame.
@@ -115,6 +117,8 @@ struct FrameTracking {
   bool background_untrusted = false;    ///< Lost: the static landmarks disagree with every hypothesis
   bool new_keyframe = false;
   bool window_discarded = false;        ///< the windowed optimisation's result was implausible
+  bool start_consensus = false;         ///< this frame took its young map's start consensus:
+                                        ///< it and the map's earlier frames are revised
   bool rejoined = false;                ///< this frame found the map left at a re-anchor: its
                                         ///< pose and the map moved back into that map's frame
   double window_shift = 0;              ///< m the windowed optimisation moved this keyframe
@@ -183,6 +187,14 @@ class RgbdOdometry {
   void reviseOnRejoin(const Isometry& T_old_new, FrameTracking& out);
   void bridge(const std::vector<std::pair<long, double>>& lost, const RevisedPose& from, const RevisedPose& to,
               FrameTracking& out);
+  /// A young map's frames judged together; taken, it revises their poses and the
+  /// landmarks outside it become suspect.
+  void judgeStart(double stamp, FrameTracking& out);
+  void adoptConsensus(const ConsensusResult& consensus, double stamp, FrameTracking& out);
+  /// The kept record of a frame given out earlier (for a rejoin) follows its revision.
+  void reviseRecord(const RevisedPose& revised);
+  /// The start consensus begins with a new map's first keyframe.
+  void startConsensus();
   void matchToMap(const features::FeatureSet& cur, const Isometry& T_world_pred, const PinholeCamera& camera,
                   double stamp, MapTrack& track) const;
   void addStaticLandmarkMatches(const features::FeatureSet& ref, const features::FeatureSet& cur, double stamp,
@@ -224,6 +236,8 @@ class RgbdOdometry {
   WindowOptimizer window_;
   LandmarkMap map_;
   MapRejoin rejoin_;
+  StartConsensus consensus_;
+  int map_first_keyframe_ = 0;          ///< keyframe_count_ of the current map's first keyframe
   MapTrack track_;                      ///< reused per frame
   BackgroundChoice choice_;             ///< reused per frame
   features::FeatureSet previous_;       ///< last frame's features (shared descriptor data)

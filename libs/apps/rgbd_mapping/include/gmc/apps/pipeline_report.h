@@ -39,6 +39,7 @@ struct PipelineReport {
   size_t lost_background_untrusted = 0;  ///< lost: the static landmarks disagree with every hypothesis
   size_t windows_discarded = 0;  ///< keyframes whose windowed optimisation moved them implausibly far
   size_t rejoined = 0;           ///< frames that found the map left at a re-anchor ([Rejoin])
+  size_t start_consensus = 0;    ///< frames that took their young map's start consensus ([StartConsensus])
   size_t dropped = 0;   ///< realtime: frames the odometry never processed (it was behind)
   size_t skipped = 0;   ///< frames that could not be read
   size_t map_inserts = 0;

@@ -1,0 +1,102 @@
+#pragma once
+// A new map's first frames judged together. One frame pair cannot tell the room from
+// walkers that outnumber it and move slowly: both are rigid motions close to the
+// prediction. Over a few frames they part. The room stays one rigid body in every
+// frame; walkers deform, turn and go their own ways. The start consensus keeps what
+// each of a young map's first frames matched of its first keyframe's landmarks and
+// finds the landmark set that one rigid pose per frame explains best over all of
+// them (3-point RANSAC, each sample fitted in every frame). When that set explains
+// the frames clearly better than the poses given out, the odometry takes it: the
+// poses are revised, the landmarks outside it become suspect. No I/O.
+#include <Eigen/Core>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "gmc/vo/background.h"
+#include "gmc/vo/landmark_map.h"
+
+namespace gmc::vo {
+
+/// INI section [StartConsensus].
+struct StartConsensusOptions {
+  bool enabled = true;
+  int frames = 12;          ///< frames after a map starts that are judged together
+  int min_frames = 4;       ///< frames kept before the first judgement
+  int iterations = 200;     ///< 3-point samples per judgement
+  double min_gain = 1.5;    ///< taken when it explains this many times the given poses' inliers
+  double max_step = 0.05;   ///< m per frame: a sample whose poses step further is no camera
+  double max_turn = 5.0;    ///< deg per frame, the same for rotation
+  double min_share = 0.5;   ///< a landmark is in the consensus when an inlier in this share
+                            ///< of the frames that observed it
+
+  template <class V>
+  void visit(V& v) {
+    v("enabled", enabled, "judge a new map's first frames together (rigid consensus over time)");
+    v("frames", frames, 2, 1000, "frames after a map starts that are judged together");
+    v("min_frames", min_frames, 2, 1000, "frames kept before the first judgement");
+    v("iterations", iterations, 1, 100000, "3-point samples per judgement");
+    v("min_gain", min_gain, 1.0, 100.0,
+      "the consensus is taken when its inliers over the frames are this many times the given poses'");
+    v("max_step", max_step, 0.0, 100.0, "m per frame; a consensus whose poses step further is no camera");
+    v("max_turn", max_turn, 0.0, 180.0, "deg per frame; the same for rotation");
+    v("min_share", min_share, 0.0, 1.0,
+      "a landmark belongs to the consensus when it is an inlier in this share of the frames that saw it");
+  }
+};
+
+/// One frame of a young map: what it matched of the first keyframe's landmarks.
+struct ConsensusFrame {
+  long frame_number = 0;
+  double stamp = 0;
+  Isometry T_world_given = Isometry::Identity();  ///< the pose given out (lost: the prediction)
+  std::vector<std::pair<int, Eigen::Vector3d>> observations;  ///< landmark id, point in the camera frame
+};
+
+struct ConsensusResult {
+  bool found = false;
+  int score = 0;                       ///< inliers summed over the frames
+  int given_score = 0;                 ///< the same for the poses given out
+  std::vector<Isometry> T_world_camera;  ///< per kept frame, oldest first
+  std::vector<int> inliers_latest;     ///< inlier landmarks in the newest frame
+  std::vector<std::pair<int, Eigen::Vector3d>> consensus;  ///< landmarks in the consensus (min_share),
+                                                           ///< with their first keyframe's position
+  std::vector<int> outside;            ///< landmarks seen twice or more, outside it
+};
+
+class StartConsensus {
+ public:
+  explicit StartConsensus(const StartConsensusOptions& options = {}) : options_(options) {}
+
+  /// A map starts: its first keyframe's landmarks (id, world position).
+  void start(const std::vector<std::pair<int, Eigen::Vector3d>>& anchors);
+  void stop();
+  /// Still collecting: the map is younger than `frames` frames.
+  bool active() const { return active_; }
+  /// Keeps a frame (observations of other landmarks are ignored); the last one stops it.
+  void add(const ConsensusFrame& frame);
+  const std::vector<ConsensusFrame>& frames() const { return frames_; }
+  /// The best rigid consensus over the kept frames; not found before min_frames.
+  /// Deterministic: the sampler restarts with every map.
+  ConsensusResult solve(const InPlaceThreshold& threshold);
+  /// The kept frames' poses were revised (to a consensus taken): they are the given ones now.
+  void revise(const std::vector<Isometry>& T_world_camera);
+  /// Landmark ids renumbered by a cull (-1 = dropped).
+  void remap(const std::vector<int>& new_id);
+
+ private:
+  /// Inliers of frame f at pose T (world <- camera); appends their anchor indices.
+  int countInliers(size_t f, const Isometry& T, const InPlaceThreshold& threshold, std::vector<int>* in) const;
+
+  bool plausibleStep(const Isometry& a, const Isometry& b) const;
+
+  StartConsensusOptions options_;
+  bool active_ = false;
+  std::vector<int> anchor_id_;                 ///< landmark id per anchor
+  std::vector<Eigen::Vector3d> anchor_world_;  ///< world position per anchor (as created)
+  std::vector<ConsensusFrame> frames_;         ///< kept frames, observations as (anchor index, point)
+  std::vector<std::vector<int>> slot_;         ///< per frame, per anchor: observation index or -1
+  Xorshift64 rng_{0x5eed5eedULL};
+};
+
+}  // namespace gmc::vo

@@ -1,0 +1,180 @@
+#include "gmc/vo/start_consensus.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <unordered_map>
+
+namespace gmc::vo {
+
+void StartConsensus::start(const std::vector<std::pair<int, Eigen::Vector3d>>& anchors) {
+  stop();
+  if (!options_.enabled) return;
+  for (const auto& [id, world] : anchors) {
+    anchor_id_.push_back(id);
+    anchor_world_.push_back(world);
+  }
+  rng_ = Xorshift64(0x5eed5eedULL);
+  active_ = anchor_id_.size() >= 3;
+}
+
+void StartConsensus::stop() {
+  active_ = false;
+  anchor_id_.clear();
+  anchor_world_.clear();
+  frames_.clear();
+  slot_.clear();
+}
+
+void StartConsensus::add(const ConsensusFrame& frame) {
+  if (!active_) return;
+  std::unordered_map<int, int> anchor_of;
+  for (size_t a = 0; a < anchor_id_.size(); ++a)
+    if (anchor_id_[a] >= 0) anchor_of[anchor_id_[a]] = static_cast<int>(a);
+  ConsensusFrame kept = frame;
+  kept.observations.clear();
+  std::vector<int> slot(anchor_id_.size(), -1);
+  for (const auto& [id, point] : frame.observations) {
+    const auto it = anchor_of.find(id);
+    if (it == anchor_of.end() || slot[static_cast<size_t>(it->second)] >= 0) continue;
+    slot[static_cast<size_t>(it->second)] = static_cast<int>(kept.observations.size());
+    kept.observations.emplace_back(it->second, point);
+  }
+  frames_.push_back(std::move(kept));
+  slot_.push_back(std::move(slot));
+  if (static_cast<int>(frames_.size()) >= options_.frames) active_ = false;
+}
+
+void StartConsensus::revise(const std::vector<Isometry>& T_world_camera) {
+  for (size_t f = 0; f < frames_.size() && f < T_world_camera.size(); ++f) frames_[f].T_world_given = T_world_camera[f];
+}
+
+void StartConsensus::remap(const std::vector<int>& new_id) {
+  for (int& id : anchor_id_) id = id >= 0 && static_cast<size_t>(id) < new_id.size() ? new_id[static_cast<size_t>(id)] : -1;
+}
+
+int StartConsensus::countInliers(size_t f, const Isometry& T, const InPlaceThreshold& threshold,
+                                 std::vector<int>* in) const {
+  int n = 0;
+  for (const auto& [a, point] : frames_[f].observations) {
+    const double thr = threshold.at(point.z());
+    if ((anchor_world_[static_cast<size_t>(a)] - T * point).squaredNorm() >= thr * thr) continue;
+    ++n;
+    if (in) in->push_back(a);
+  }
+  return n;
+}
+
+namespace {
+
+/// world <- camera from the observations of `anchors` in one frame (false: fewer than `min_points`).
+bool fitFrame(const std::vector<int>& anchors, const std::vector<int>& slot, const ConsensusFrame& frame,
+              const std::vector<Eigen::Vector3d>& world, size_t min_points, Isometry& T) {
+  std::vector<int> seen;
+  for (int a : anchors)
+    if (slot[static_cast<size_t>(a)] >= 0) seen.push_back(a);
+  if (seen.size() < min_points) return false;
+  Eigen::Matrix3Xd src(3, seen.size()), dst(3, seen.size());
+  for (size_t k = 0; k < seen.size(); ++k) {
+    src.col(static_cast<Eigen::Index>(k)) =
+        frame.observations[static_cast<size_t>(slot[static_cast<size_t>(seen[k])])].second;
+    dst.col(static_cast<Eigen::Index>(k)) = world[static_cast<size_t>(seen[k])];
+  }
+  return fitRigid(src, dst, T);
+}
+
+}  // namespace
+
+bool StartConsensus::plausibleStep(const Isometry& a, const Isometry& b) const {
+  const Isometry step = a.inverse() * b;
+  return step.translation().norm() <= options_.max_step &&
+         Eigen::AngleAxisd(step.linear()).angle() * 180.0 / M_PI <= options_.max_turn;
+}
+
+ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold) {
+  ConsensusResult result;
+  const size_t n = frames_.size();
+  if (static_cast<int>(n) < options_.min_frames || anchor_id_.size() < 3) return result;
+  for (size_t f = 0; f < n; ++f) result.given_score += countInliers(f, frames_[f].T_world_given, threshold, nullptr);
+
+  // Samples come from landmarks seen in at least half the frames: a set the frames share.
+  std::vector<int> seen_in(anchor_id_.size(), 0), pool;
+  for (const auto& slot : slot_)
+    for (size_t a = 0; a < slot.size(); ++a) seen_in[a] += slot[a] >= 0;
+  for (size_t a = 0; a < seen_in.size(); ++a)
+    if (anchor_id_[a] >= 0 && 2 * seen_in[a] >= static_cast<int>(n)) pool.push_back(static_cast<int>(a));
+  if (pool.size() < 3) return result;
+
+  int best_score = -1;
+  std::vector<int> best_sample;
+  for (int it = 0; it < options_.iterations; ++it) {
+    std::vector<int> sample(3);
+    for (int& a : sample) a = pool[rng_.next() % pool.size()];
+    if (sample[0] == sample[1] || sample[0] == sample[2] || sample[1] == sample[2]) continue;
+    const auto& w = anchor_world_;
+    if ((w[sample[1]] - w[sample[0]]).cross(w[sample[2]] - w[sample[0]]).norm() < 1e-3) continue;
+    int score = 0;
+    Isometry before = Isometry::Identity();  // the first keyframe (world = its frame... or the anchor's)
+    bool chained = false;
+    for (size_t f = 0; f < n && score >= 0; ++f) {
+      Isometry T;
+      if (!fitFrame(sample, slot_[f], frames_[f], anchor_world_, 3, T)) {
+        chained = false;
+        continue;
+      }
+      if (chained && !plausibleStep(before, T)) score = -1;
+      else score += countInliers(f, T, threshold, nullptr);
+      before = T;
+      chained = true;
+    }
+    if (score > best_score) best_score = score, best_sample = sample;
+  }
+  if (best_sample.empty()) return result;
+
+  // Membership from the sample's poses, then every frame refitted on the members it saw.
+  std::vector<Isometry> pose(n, Isometry::Identity());
+  std::vector<std::uint8_t> posed(n, 0);
+  std::vector<int> inlier_in(anchor_id_.size(), 0), observed_in(anchor_id_.size(), 0);
+  for (size_t f = 0; f < n; ++f) {
+    if (!fitFrame(best_sample, slot_[f], frames_[f], anchor_world_, 3, pose[f])) continue;
+    posed[f] = 1;
+    std::vector<int> in;
+    countInliers(f, pose[f], threshold, &in);
+    for (int a : in) ++inlier_in[static_cast<size_t>(a)];
+    for (const auto& ob : frames_[f].observations) ++observed_in[static_cast<size_t>(ob.first)];
+  }
+  std::vector<int> members;
+  for (size_t a = 0; a < anchor_id_.size(); ++a) {
+    if (anchor_id_[a] < 0 || observed_in[a] == 0) continue;
+    if (inlier_in[a] > 0 && inlier_in[a] >= options_.min_share * observed_in[a]) {
+      members.push_back(static_cast<int>(a));
+      result.consensus.emplace_back(anchor_id_[a], anchor_world_[a]);
+    } else if (observed_in[a] >= 2) {
+      result.outside.push_back(anchor_id_[a]);
+    }
+  }
+  result.score = 0;
+  for (size_t f = 0; f < n; ++f) {
+    Isometry T = pose[f];
+    if (fitFrame(members, slot_[f], frames_[f], anchor_world_, 6, T)) {
+      // Members that moved in this frame alone (a walker's corner that stood still so far) out.
+      std::vector<int> in;
+      countInliers(f, T, threshold, &in);
+      std::sort(in.begin(), in.end());
+      std::vector<int> kept;
+      std::set_intersection(members.begin(), members.end(), in.begin(), in.end(), std::back_inserter(kept));
+      Isometry refit = T;
+      if (fitFrame(kept, slot_[f], frames_[f], anchor_world_, 6, refit)) T = refit;
+      posed[f] = 1;
+    }
+    if (!posed[f]) return result;  // a frame no pose explains: nothing to revise it with
+    pose[f] = T;
+    std::vector<int> in;
+    result.score += countInliers(f, T, threshold, f + 1 == n ? &in : nullptr);
+    for (int a : in) result.inliers_latest.push_back(anchor_id_[static_cast<size_t>(a)]);
+  }
+  result.T_world_camera = pose;
+  result.found = true;
+  return result;
+}
+
+}  // namespace gmc::vo

@@ -1,0 +1,177 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <random>
+
+#include "gmc/vo/start_consensus.h"
+
+namespace {
+
+using gmc::Isometry;
+using gmc::vo::ConsensusFrame;
+using gmc::vo::ConsensusResult;
+using gmc::vo::InPlaceThreshold;
+using gmc::vo::StartConsensus;
+using gmc::vo::StartConsensusOptions;
+
+/// Points 2-4 m in front of the first keyframe (its frame is the world).
+std::vector<Eigen::Vector3d> pointsAhead(int n, std::mt19937& rng) {
+  std::uniform_real_distribution<double> x(-1.5, 1.5), y(-1.0, 1.0), z(2.0, 4.0);
+  std::vector<Eigen::Vector3d> out;
+  for (int i = 0; i < n; ++i) out.emplace_back(x(rng), y(rng), z(rng));
+  return out;
+}
+
+Isometry translation(const Eigen::Vector3d& t) {
+  Isometry T = Isometry::Identity();
+  T.translation() = t;
+  return T;
+}
+
+/// A young map: `room` static landmarks (ids 0..) and groups of walker landmarks, each
+/// group moving at its own velocity (m per frame) and each of its points off it by up to
+/// `deform` (limbs swing: a walker is no rigid body), seen from a camera stepping 3 mm
+/// per frame. Every frame observes every landmark; the given poses follow the first group.
+struct YoungMap {
+  std::vector<Eigen::Vector3d> world;          ///< where the first keyframe put each landmark
+  std::vector<int> group;                      ///< -1 room, else the walker group
+  std::vector<Eigen::Vector3d> velocity;       ///< per landmark
+  std::vector<Eigen::Vector3d> group_velocity;  ///< per group
+  Isometry camera(int f) const { return translation(Eigen::Vector3d(0.003 * f, 0, 0)); }
+  Eigen::Vector3d at(size_t i, int f) const { return world[i] + velocity[i] * f; }
+  ConsensusFrame frame(int f) const {
+    ConsensusFrame out;
+    out.frame_number = f + 1;
+    out.stamp = f / 30.0;
+    // Following group 0: the camera seems to move with the walker.
+    out.T_world_given =
+        camera(f) * translation(group_velocity.empty() ? Eigen::Vector3d::Zero() : Eigen::Vector3d(group_velocity[0] * f));
+    for (size_t i = 0; i < world.size(); ++i)
+      out.observations.emplace_back(static_cast<int>(i), camera(f).inverse() * at(i, f));
+    return out;
+  }
+  std::vector<std::pair<int, Eigen::Vector3d>> anchors() const {
+    std::vector<std::pair<int, Eigen::Vector3d>> out;
+    for (size_t i = 0; i < world.size(); ++i) out.emplace_back(static_cast<int>(i), world[i]);
+    return out;
+  }
+};
+
+YoungMap crowdedStart(int room, int per_group, const std::vector<Eigen::Vector3d>& velocities, double deform) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> swing(-deform, deform);
+  YoungMap map;
+  map.world = pointsAhead(room, rng);
+  map.group.assign(static_cast<size_t>(room), -1);
+  map.velocity.assign(static_cast<size_t>(room), Eigen::Vector3d::Zero());
+  for (size_t g = 0; g < velocities.size(); ++g)
+    for (const auto& p : pointsAhead(per_group, rng)) {
+      map.world.push_back(p);
+      map.group.push_back(static_cast<int>(g));
+      map.velocity.push_back(velocities[g] + Eigen::Vector3d(swing(rng), swing(rng), swing(rng)));
+    }
+  map.group_velocity = velocities;
+  return map;
+}
+
+ConsensusResult runFrames(StartConsensus& consensus, const YoungMap& map, int frames) {
+  consensus.start(map.anchors());
+  ConsensusResult result;
+  for (int f = 1; f <= frames; ++f) {
+    consensus.add(map.frame(f));
+    result = consensus.solve(InPlaceThreshold{});
+  }
+  return result;
+}
+
+// Three walkers with 50 landmarks each outnumber the room's 40, and one frame pair alone
+// is explained better by a walker's motion than by the room's. Over the frames a walker's
+// points part (limbs swing 1 cm per frame off its body) and the room stays one body.
+TEST(StartConsensus, FindsTheRoomWhenWalkersOutnumberItButAreNoRigidBodies) {
+  const YoungMap map = crowdedStart(40, 50, {{0.02, 0, 0}, {-0.02, 0, 0.01}, {0, 0, -0.025}}, 0.01);
+  StartConsensus consensus;
+  const ConsensusResult r = runFrames(consensus, map, 8);
+  ASSERT_TRUE(r.found);
+  int room_in = 0, walkers_in = 0;
+  for (const auto& [id, position] : r.consensus) (map.group[static_cast<size_t>(id)] < 0 ? room_in : walkers_in)++;
+  EXPECT_EQ(room_in, 40);
+  EXPECT_EQ(walkers_in, 0);
+  EXPECT_EQ(r.outside.size(), 150u);
+  EXPECT_GE(r.score, 1.5 * r.given_score) << "the given poses follow a walker";
+  for (size_t f = 0; f < r.T_world_camera.size(); ++f)
+    EXPECT_LT((r.T_world_camera[f].translation() - map.camera(static_cast<int>(f) + 1).translation()).norm(), 1e-6);
+}
+
+// Given poses that already follow the room: the consensus is no better, so nothing would change.
+TEST(StartConsensus, AgreesWithPosesThatFollowTheRoom) {
+  const YoungMap map = crowdedStart(80, 30, {{0.02, 0, 0}}, 0.01);
+  StartConsensus consensus;
+  consensus.start(map.anchors());
+  ConsensusResult r;
+  for (int f = 1; f <= 6; ++f) {
+    ConsensusFrame frame = map.frame(f);
+    frame.T_world_given = map.camera(f);
+    consensus.add(frame);
+    r = consensus.solve(InPlaceThreshold{});
+  }
+  ASSERT_TRUE(r.found);
+  EXPECT_EQ(r.score, r.given_score);
+}
+
+// One rigid group larger than the room but moving 10 cm per frame relative to it: as
+// camera motion that is 3 m/s, beyond max_step, so it is not taken for the world.
+TEST(StartConsensus, AFastRigidGroupIsNoCamera) {
+  const YoungMap map = crowdedStart(30, 120, {{0.10, 0, 0}}, 0);
+  StartConsensus consensus;
+  const ConsensusResult r = runFrames(consensus, map, 6);
+  ASSERT_TRUE(r.found);
+  for (const auto& [id, position] : r.consensus) EXPECT_LT(map.group[static_cast<size_t>(id)], 0);
+
+  StartConsensusOptions unlimited;
+  unlimited.max_step = 100;
+  StartConsensus any_step(unlimited);
+  const ConsensusResult walker = runFrames(any_step, map, 6);
+  ASSERT_TRUE(walker.found);
+  EXPECT_GT(walker.consensus.size(), 100u) << "without the limit the larger group wins";
+}
+
+// Judged only from min_frames kept frames on, and collecting stops after `frames`.
+TEST(StartConsensus, WaitsForMinFramesAndStopsAfterFrames) {
+  const YoungMap map = crowdedStart(40, 0, {}, 0);
+  StartConsensusOptions options;
+  options.min_frames = 3;
+  options.frames = 5;
+  StartConsensus consensus(options);
+  consensus.start(map.anchors());
+  for (int f = 1; f <= 5; ++f) {
+    ASSERT_TRUE(consensus.active());
+    consensus.add(map.frame(f));
+    EXPECT_EQ(consensus.solve(InPlaceThreshold{}).found, f >= 3) << "frame " << f;
+  }
+  EXPECT_FALSE(consensus.active());
+  consensus.add(map.frame(6));
+  EXPECT_EQ(consensus.frames().size(), 5u);
+}
+
+// A cull renumbers landmarks: the consensus reports the new ids, and dropped ones never.
+TEST(StartConsensus, FollowsRenumberedLandmarks) {
+  const YoungMap map = crowdedStart(20, 0, {}, 0);
+  StartConsensus consensus;
+  consensus.start(map.anchors());
+  std::vector<int> new_id(20);
+  for (int i = 0; i < 20; ++i) new_id[static_cast<size_t>(i)] = i == 3 ? -1 : 100 + i;
+  consensus.remap(new_id);
+  ConsensusResult r;
+  for (int f = 1; f <= 4; ++f) {
+    ConsensusFrame frame = map.frame(f);
+    for (auto& [id, point] : frame.observations) id = new_id[static_cast<size_t>(id)];
+    consensus.add(frame);
+    r = consensus.solve(InPlaceThreshold{});
+  }
+  ASSERT_TRUE(r.found);
+  EXPECT_EQ(r.consensus.size(), 19u);
+  for (const auto& [id, position] : r.consensus) EXPECT_GE(id, 100);
+}
+
+}  // namespace
