@@ -113,7 +113,7 @@ TEST(RgbdMappingApp, TrackingLogHasEveryFramesStatePoseAndLostReason) {
   const auto est = gmc::datasets::readTumTrajectory(out + "/trajectory_tum.txt");
   std::ifstream csv(out + "/tracking.csv");
   std::getline(csv, line);
-  EXPECT_EQ(line.rfind("frame,stamp,state,keyframe,window_shift,window_discarded,rejoined,", 0), 0u) << line;
+  EXPECT_EQ(line.rfind("frame,stamp,state,keyframe,window_shift,window_discarded,rejoined,start_consensus,", 0), 0u) << line;
   std::vector<std::vector<std::string>> rows;
   while (std::getline(csv, line)) {
     std::vector<std::string> fields;
@@ -126,25 +126,26 @@ TEST(RgbdMappingApp, TrackingLogHasEveryFramesStatePoseAndLostReason) {
   const Eigen::Vector3d midway = 0.5 * (est[4].pose.translation() + est[6].pose.translation());
   EXPECT_LT((est[5].pose.translation() - midway).norm(), 1e-6) << "the lost frame is not bridged";
   for (size_t i = 0; i < rows.size(); ++i) {
-    ASSERT_EQ(rows[i].size(), 29u) << i;
+    ASSERT_EQ(rows[i].size(), 30u) << i;
     EXPECT_EQ(rows[i][0], std::to_string(i + 1));
     EXPECT_NEAR(std::stod(rows[i][1]), est[i].stamp, 1e-6);
     // The log keeps the live pose; the trajectory holds the lost frame bridged between
     // its tracked neighbours (doc/odometry.md, step 5), which the next check covers.
     if (i != 5) {
-      EXPECT_NEAR(std::stod(rows[i][21]), est[i].pose.translation().x(), 1e-5) << i;
+      EXPECT_NEAR(std::stod(rows[i][22]), est[i].pose.translation().x(), 1e-5) << i;
     }
     const std::string expected = i == 0 ? "initialized" : i == 5 ? "lost" : "tracking";
     EXPECT_EQ(rows[i][2], expected) << i;
-    EXPECT_EQ(rows[i][28] != "\"\"", i == 5) << i << ": " << rows[i][28];
+    EXPECT_EQ(rows[i][29] != "\"\"", i == 5) << i << ": " << rows[i][29];
     EXPECT_EQ(rows[i][6], "0") << i;  // no re-anchor, nothing to rejoin
+    EXPECT_EQ(rows[i][7], "0") << i;  // a static wall: the start consensus agrees with the poses
     if (expected == "tracking") {  // the refinement's median errors on a clean rendered wall
-      EXPECT_LT(std::stod(rows[i][19]), 2.0) << i;
-      EXPECT_LT(std::stod(rows[i][20]), 0.02) << i;
+      EXPECT_LT(std::stod(rows[i][20]), 2.0) << i;
+      EXPECT_LT(std::stod(rows[i][21]), 0.02) << i;
     }
     // Landmarks to re-find exist only after a tracked frame (none after the first frame,
     // which is initialised, and after the lost 6th).
-    const int to_refind = std::stoi(rows[i][14]), refound = std::stoi(rows[i][15]);
+    const int to_refind = std::stoi(rows[i][15]), refound = std::stoi(rows[i][16]);
     EXPECT_LE(refound, to_refind) << i;
     EXPECT_EQ(to_refind > 0, i >= 2 && i != 6) << i << ": " << to_refind;
   }
