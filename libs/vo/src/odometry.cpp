@@ -138,7 +138,9 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   out.times.refine += msSince(t0);
   const bool after_lost_frames = lost_streak_ > 0;
   decideTracking(refined, orthonormalized(refined.T_cur_ref).inverse(), choice_.trustworthy, T_world_pred, out);
-  judgeStart(stamp, out);
+  t0 = Clock::now();
+  judgeStart(stamp, out);  // a young map's frames judged together: with the hypotheses' time
+  out.times.guess += msSince(t0);
   if (out.state == TrackingState::Tracking && rejoin_.active()) tryRejoin(cur, camera, stamp, out);
 
   // 5. Labels for the mask from the previous frame; dynamic memory.

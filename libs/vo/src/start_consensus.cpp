@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <unordered_map>
 
 namespace gmc::vo {
@@ -82,6 +83,23 @@ bool fitFrame(const std::vector<int>& anchors, const std::vector<int>& slot, con
   return fitRigid(src, dst, T);
 }
 
+/// The same for exactly three anchors, without allocating (the sampling loop's fit).
+bool fitSample(const std::array<int, 3>& sample, const std::vector<int>& slot, const ConsensusFrame& frame,
+               const std::vector<Eigen::Vector3d>& world, Isometry& T) {
+  Eigen::Matrix3d src, dst;
+  for (int k = 0; k < 3; ++k) {
+    const int a = sample[static_cast<size_t>(k)];
+    const int ob = slot[static_cast<size_t>(a)];
+    if (ob < 0) return false;
+    src.col(k) = frame.observations[static_cast<size_t>(ob)].second;
+    dst.col(k) = world[static_cast<size_t>(a)];
+  }
+  const Eigen::Matrix4d M = Eigen::umeyama(src, dst, false);
+  if (!M.allFinite()) return false;
+  T.matrix() = M;
+  return true;
+}
+
 }  // namespace
 
 bool StartConsensus::plausibleStep(const Isometry& a, const Isometry& b) const {
@@ -104,20 +122,27 @@ ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold) {
     if (anchor_id_[a] >= 0 && 2 * seen_in[a] >= static_cast<int>(n)) pool.push_back(static_cast<int>(a));
   if (pool.size() < 3) return result;
 
+  // A sample stops being scored once the observations left cannot lift it above the best.
+  std::vector<int> left(n + 1, 0);
+  for (size_t f = n; f-- > 0;) left[f] = left[f + 1] + static_cast<int>(frames_[f].observations.size());
   int best_score = -1;
   std::vector<int> best_sample;
   for (int it = 0; it < options_.iterations; ++it) {
-    std::vector<int> sample(3);
+    std::array<int, 3> sample;
     for (int& a : sample) a = pool[rng_.next() % pool.size()];
     if (sample[0] == sample[1] || sample[0] == sample[2] || sample[1] == sample[2]) continue;
     const auto& w = anchor_world_;
     if ((w[sample[1]] - w[sample[0]]).cross(w[sample[2]] - w[sample[0]]).norm() < 1e-3) continue;
     int score = 0;
-    Isometry before = Isometry::Identity();  // the first keyframe (world = its frame... or the anchor's)
+    Isometry before = Isometry::Identity();  // the previous frame's pose, when it had one
     bool chained = false;
     for (size_t f = 0; f < n && score >= 0; ++f) {
+      if (score + left[f] <= best_score) {
+        score = -1;
+        break;
+      }
       Isometry T;
-      if (!fitFrame(sample, slot_[f], frames_[f], anchor_world_, 3, T)) {
+      if (!fitSample(sample, slot_[f], frames_[f], anchor_world_, T)) {
         chained = false;
         continue;
       }
@@ -126,7 +151,7 @@ ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold) {
       before = T;
       chained = true;
     }
-    if (score > best_score) best_score = score, best_sample = sample;
+    if (score > best_score) best_score = score, best_sample.assign(sample.begin(), sample.end());
   }
   if (best_sample.empty()) return result;
 

@@ -86,7 +86,8 @@ struct OdometryConfig {
 /// Milliseconds spent per stage for one frame.
 struct StageTimes {
   double frontend = 0;  ///< extraction + matching + GMS
-  double guess = 0;     ///< hypotheses (prediction, RANSAC) and their GMC judgement
+  double guess = 0;     ///< hypotheses (prediction, RANSAC) and their GMC judgement; a young
+                        ///< map's start consensus
   double gmc = 0;       ///< GMC classification against the previous frame (masks)
   double refine = 0;    ///< robust refinement on static matches
   double window = 0;    ///< windowed optimisation (keyframes only)
