@@ -136,6 +136,20 @@ TEST(StartConsensus, AFastRigidGroupIsNoCamera) {
   EXPECT_GT(walker.consensus.size(), 100u) << "without the limit the larger group wins";
 }
 
+// A newest frame 20 cm from the one before (a frame apart) is no camera's step: no
+// consensus is offered (the newest step would become the velocity).
+TEST(StartConsensus, ANewestFrameThatJumpsLeavesNoConsensus) {
+  const YoungMap map = crowdedStart(40, 0, {}, 0);
+  StartConsensus consensus;
+  consensus.start(map.anchors());
+  for (int f = 1; f <= 4; ++f) consensus.add(map.frame(f));
+  ASSERT_TRUE(consensus.solve(InPlaceThreshold{}).found);
+  ConsensusFrame jump = map.frame(5);
+  for (auto& [id, point] : jump.observations) point -= Eigen::Vector3d(0.2, 0, 0);  // the camera 20 cm further
+  consensus.add(jump);
+  EXPECT_FALSE(consensus.solve(InPlaceThreshold{}).found);
+}
+
 // Judged only from min_frames kept frames on, and collecting stops after `frames`.
 TEST(StartConsensus, WaitsForMinFramesAndStopsAfterFrames) {
   const YoungMap map = crowdedStart(40, 0, {}, 0);

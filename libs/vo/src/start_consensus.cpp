@@ -197,6 +197,8 @@ ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold) {
     result.score += countInliers(f, T, threshold, f + 1 == n ? &in : nullptr);
     for (int a : in) result.inliers_latest.push_back(anchor_id_[static_cast<size_t>(a)]);
   }
+  // The newest step becomes the velocity: it must be a camera's.
+  if (n >= 2 && !plausibleStep(pose[n - 2], pose[n - 1])) return result;
   result.T_world_camera = pose;
   result.found = true;
   return result;
