@@ -195,7 +195,7 @@ class RgbdOdometry {
   /// The kept record of a frame given out earlier (for a rejoin) follows its revision.
   void reviseRecord(const RevisedPose& revised);
   /// The start consensus begins with a new map's first keyframe.
-  void startConsensus();
+  void startConsensus(double stamp);
   void matchToMap(const features::FeatureSet& cur, const Isometry& T_world_pred, const PinholeCamera& camera,
                   double stamp, MapTrack& track) const;
   void addStaticLandmarkMatches(const features::FeatureSet& ref, const features::FeatureSet& cur, double stamp,
@@ -239,6 +239,7 @@ class RgbdOdometry {
   MapRejoin rejoin_;
   StartConsensus consensus_;
   int map_first_keyframe_ = 0;          ///< keyframe_count_ of the current map's first keyframe
+  RevisedPose consensus_start_;         ///< and its frame (a taken consensus bridges from it)
   MapTrack track_;                      ///< reused per frame
   BackgroundChoice choice_;             ///< reused per frame
   features::FeatureSet previous_;       ///< last frame's features (shared descriptor data)
