@@ -271,8 +271,8 @@ void RgbdOdometry::adoptConsensus(const ConsensusResult& consensus, double stamp
   }
   out.start_consensus = true;
   lost_streak_ = 0;
-  // Every earlier frame of this map is revised: none is left to bridge, and the step into
-  // this frame is the consensus' own.
+  // Every earlier frame of this map is revised: none is left to bridge, and the velocity
+  // is the last bridged step.
   lost_frames_.clear();
   const Isometry& T_world_before = out.revised.back().T_world_camera;
   last_tracked_ = out.revised.back();
@@ -281,7 +281,10 @@ void RgbdOdometry::adoptConsensus(const ConsensusResult& consensus, double stamp
   velocity_known_ = true;
   // The landmarks: the consensus is where the first keyframe put them; the rest moved.
   map_.judgeStart(consensus.consensus, consensus.outside, map_first_keyframe_, map_start_stamp_, stamp);
-  if (window_keyframes_.size() > 1 && keyframe_count_ - map_first_keyframe_ <= static_cast<int>(window_keyframes_.size()))
+  // The window keeps the map's first keyframe only (when it still holds it: every keyframe
+  // of this map is in the window).
+  const int map_keyframes = keyframe_count_ - map_first_keyframe_;
+  if (window_keyframes_.size() > 1 && map_keyframes <= static_cast<int>(window_keyframes_.size()))
     window_keyframes_.erase(window_keyframes_.begin() + 1, window_keyframes_.end());
   keyframe_policy_.reset(window_keyframes_.front().T_world_kf);
   pose_landmarks_ = consensus.inliers_latest;
