@@ -6,12 +6,25 @@
 
 namespace gmc::vo {
 
-bool fitRigid(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst, Isometry& T) {
+namespace {
+
+template <class Points>
+bool fitRigidPoints(const Points& src, const Points& dst, Isometry& T) {
   if (src.cols() < 3) return false;
   const Eigen::Matrix4d M = Eigen::umeyama(src, dst, false);
   if (!M.allFinite()) return false;
   T.matrix() = M;
   return true;
+}
+
+}  // namespace
+
+bool fitRigid(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst, Isometry& T) {
+  return fitRigidPoints(src, dst, T);
+}
+
+bool fitRigid(const Eigen::Matrix3d& src, const Eigen::Matrix3d& dst, Isometry& T) {
+  return fitRigidPoints(src, dst, T);
 }
 
 std::uint64_t Xorshift64::next() {

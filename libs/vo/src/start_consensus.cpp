@@ -3,7 +3,6 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
-#include <unordered_map>
 
 namespace gmc::vo {
 
@@ -11,6 +10,7 @@ void StartConsensus::start(const std::vector<std::pair<int, Eigen::Vector3d>>& a
   stop();
   if (!options_.enabled) return;
   for (const auto& [id, world] : anchors) {
+    anchor_of_[id] = static_cast<int>(anchor_id_.size());
     anchor_id_.push_back(id);
     anchor_world_.push_back(world);
   }
@@ -21,6 +21,7 @@ void StartConsensus::start(const std::vector<std::pair<int, Eigen::Vector3d>>& a
 void StartConsensus::stop() {
   active_ = false;
   anchor_id_.clear();
+  anchor_of_.clear();
   anchor_world_.clear();
   frames_.clear();
   slot_.clear();
@@ -28,15 +29,12 @@ void StartConsensus::stop() {
 
 void StartConsensus::add(const ConsensusFrame& frame) {
   if (!active_) return;
-  std::unordered_map<int, int> anchor_of;
-  for (size_t a = 0; a < anchor_id_.size(); ++a)
-    if (anchor_id_[a] >= 0) anchor_of[anchor_id_[a]] = static_cast<int>(a);
   ConsensusFrame kept = frame;
   kept.observations.clear();
   std::vector<int> slot(anchor_id_.size(), -1);
   for (const auto& [id, point] : frame.observations) {
-    const auto it = anchor_of.find(id);
-    if (it == anchor_of.end() || slot[static_cast<size_t>(it->second)] >= 0) continue;
+    const auto it = anchor_of_.find(id);
+    if (it == anchor_of_.end() || slot[static_cast<size_t>(it->second)] >= 0) continue;
     slot[static_cast<size_t>(it->second)] = static_cast<int>(kept.observations.size());
     kept.observations.emplace_back(it->second, point);
   }
@@ -50,7 +48,12 @@ void StartConsensus::revise(const std::vector<Isometry>& T_world_camera) {
 }
 
 void StartConsensus::remap(const std::vector<int>& new_id) {
-  for (int& id : anchor_id_) id = id >= 0 && static_cast<size_t>(id) < new_id.size() ? new_id[static_cast<size_t>(id)] : -1;
+  anchor_of_.clear();
+  for (size_t a = 0; a < anchor_id_.size(); ++a) {
+    int& id = anchor_id_[a];
+    id = id >= 0 && static_cast<size_t>(id) < new_id.size() ? new_id[static_cast<size_t>(id)] : -1;
+    if (id >= 0) anchor_of_[id] = static_cast<int>(a);
+  }
 }
 
 int StartConsensus::countInliers(size_t f, const Isometry& T, const InPlaceThreshold& threshold,
@@ -94,10 +97,7 @@ bool fitSample(const std::array<int, 3>& sample, const std::vector<int>& slot, c
     src.col(k) = frame.observations[static_cast<size_t>(ob)].second;
     dst.col(k) = world[static_cast<size_t>(a)];
   }
-  const Eigen::Matrix4d M = Eigen::umeyama(src, dst, false);
-  if (!M.allFinite()) return false;
-  T.matrix() = M;
-  return true;
+  return fitRigid(src, dst, T);
 }
 
 }  // namespace

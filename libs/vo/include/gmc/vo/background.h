@@ -69,6 +69,8 @@ struct BackgroundOptions {
 
 /// Rigid transform mapping src onto dst (least squares, no scale); false below 3 points.
 bool fitRigid(const Eigen::Matrix3Xd& src, const Eigen::Matrix3Xd& dst, Isometry& T);
+/// The same for exactly three points, without allocating (sampling loops).
+bool fitRigid(const Eigen::Matrix3d& src, const Eigen::Matrix3d& dst, Isometry& T);
 
 /// xorshift64*: deterministic, cheap random numbers for RANSAC sampling.
 class Xorshift64 {

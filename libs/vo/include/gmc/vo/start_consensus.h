@@ -10,6 +10,7 @@
 // poses are revised, the landmarks outside it become suspect. No I/O.
 #include <Eigen/Core>
 #include <cstdint>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -92,6 +93,7 @@ class StartConsensus {
 
   StartConsensusOptions options_;
   bool active_ = false;
+  std::unordered_map<int, int> anchor_of_;    ///< anchor index per landmark id (built at start, remap)
   std::vector<int> anchor_id_;                 ///< landmark id per anchor
   std::vector<Eigen::Vector3d> anchor_world_;  ///< world position per anchor (as created)
   std::vector<ConsensusFrame> frames_;         ///< kept frames, observations as (anchor index, point)
