@@ -77,24 +77,25 @@ TEST(MapRejoin, FindsTheOldFrameOnceTwoAttemptsAgree) {
   std::mt19937 rng(7);
   const auto landmarks = room(300, rng);
   MapRejoin rejoin(RejoinOptions{}, gmc::vo::RefinementOptions{}, gmc::vo::InPlaceThreshold{});
-  rejoin.freeze(landmarks, 10.0);
+  ASSERT_TRUE(rejoin.freeze(0, landmarks, 10.0));
   ASSERT_TRUE(rejoin.active());
   const Isometry T_new_old = pose(12, {0.2, 0.0, -0.1});
   const gmc::features::Frontend frontend;
   RejoinAttempt first, second;
   const Isometry T_old_a = pose(3, {0.05, 0, 0.1}), T_old_b = pose(5, {0.08, 0.01, 0.12});
-  const auto a = rejoin.attempt(frontend, frame(landmarks, T_old_a, 150, 60, rng), T_new_old * T_old_a, kCamera,
-                                10.5, &first);
+  const auto a =
+      rejoin.attempt(frontend, frame(landmarks, T_old_a, 150, 60, rng), T_new_old * T_old_a, kCamera, &first);
   EXPECT_FALSE(a.has_value());
   EXPECT_GT(first.inliers, 100);
-  const auto b = rejoin.attempt(frontend, frame(landmarks, T_old_b, 150, 60, rng), T_new_old * T_old_b, kCamera,
-                                10.6, &second);
+  const auto b =
+      rejoin.attempt(frontend, frame(landmarks, T_old_b, 150, 60, rng), T_new_old * T_old_b, kCamera, &second);
   ASSERT_TRUE(b.has_value());
   EXPECT_TRUE(second.confirmed);
-  const Isometry error = *b * T_new_old;  // identity when the correction is T_old_new
+  EXPECT_EQ(b->map, 0);
+  const Isometry error = b->T_map_current * T_new_old;  // identity when the correction is T_old_new
   EXPECT_LT(error.translation().norm(), 1e-3);
   EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle(), 1e-3);
-  EXPECT_EQ(rejoin.release().size(), landmarks.size());
+  EXPECT_EQ(rejoin.release(0).size(), landmarks.size());
   EXPECT_FALSE(rejoin.active());
 }
 
@@ -104,14 +105,14 @@ TEST(MapRejoin, MatchesWithoutACommonCorrectionNeverRejoin) {
   std::mt19937 rng(3);
   const auto landmarks = room(300, rng);
   MapRejoin rejoin(RejoinOptions{}, gmc::vo::RefinementOptions{}, gmc::vo::InPlaceThreshold{});
-  rejoin.freeze(landmarks, 0.0);
+  rejoin.freeze(0, landmarks, 0.0);
   const gmc::features::Frontend frontend;
   for (int k = 0; k < 10; ++k) {
     auto shuffled = landmarks;
     for (auto& l : shuffled) l.position = room(1, rng)[0].position;
-    EXPECT_FALSE(rejoin.attempt(frontend, frame(shuffled, Isometry::Identity(), 100, 0, rng), Isometry::Identity(),
-                                kCamera, 0.1 * k)
-                     .has_value())
+    EXPECT_FALSE(
+        rejoin.attempt(frontend, frame(shuffled, Isometry::Identity(), 100, 0, rng), Isometry::Identity(), kCamera)
+            .has_value())
         << k;
   }
 }
@@ -123,42 +124,87 @@ TEST(MapRejoin, EveryNthTrackedFrameAttemptsAndTheOldMapIsGivenUpInTime) {
   options.every_frames = 3;
   options.max_seconds = 2.0;
   MapRejoin rejoin(options, gmc::vo::RefinementOptions{}, gmc::vo::InPlaceThreshold{});
-  rejoin.freeze(landmarks, 1.0);
+  rejoin.freeze(0, landmarks, 1.0);
   const gmc::features::Frontend frontend;
   const auto seen = frame(landmarks, Isometry::Identity(), 0, 0, rng);
   std::vector<int> matched;
   for (int k = 0; k < 6; ++k) {
     RejoinAttempt r;
-    rejoin.attempt(frontend, seen, pose(20, {0.3, 0, 0}), kCamera, 1.1 + 0.1 * k, &r);
+    rejoin.attempt(frontend, seen, pose(20, {0.3, 0, 0}), kCamera, &r);
     matched.push_back(r.matches);
   }
   EXPECT_GT(matched[0], 100);
   EXPECT_EQ(matched[1], 0);
   EXPECT_EQ(matched[2], 0);
   EXPECT_GT(matched[3], 100);
+  EXPECT_TRUE(rejoin.giveUpExpired(2.9).empty());
   EXPECT_TRUE(rejoin.active());
-  rejoin.attempt(frontend, seen, Isometry::Identity(), kCamera, 3.5);
+  EXPECT_EQ(rejoin.giveUpExpired(3.5), std::vector<int>{0});
   EXPECT_FALSE(rejoin.active());
 }
 
-// A second re-anchor while the first map is still waiting keeps the first: it is the
-// frame the trajectory started in. Too few landmarks to ever agree are not kept.
-TEST(MapRejoin, KeepsTheOldestMapAndNoneTooSmallToAgree) {
+// Maps left at successive re-anchors wait together, up to max_maps; when full, the oldest
+// (the frame the trajectory started in) stays and the second oldest makes room. With
+// max_maps = 1 a second map is not kept. Too few landmarks to ever agree are not kept.
+TEST(MapRejoin, KeepsSeveralMapsTheOldestFirstAndNoneTooSmallToAgree) {
   std::mt19937 rng(9);
-  const auto first = room(50, rng), second = room(80, rng);
-  MapRejoin rejoin(RejoinOptions{}, gmc::vo::RefinementOptions{}, gmc::vo::InPlaceThreshold{});
-  rejoin.freeze(room(RejoinOptions{}.min_inliers - 1, rng), 0.0);
+  const auto first = room(50, rng), second = room(80, rng), third = room(60, rng);
+  RejoinOptions two;
+  two.max_maps = 2;
+  MapRejoin rejoin(two, gmc::vo::RefinementOptions{}, gmc::vo::InPlaceThreshold{});
+  EXPECT_FALSE(rejoin.freeze(0, room(RejoinOptions{}.min_inliers - 1, rng), 0.0));
   EXPECT_FALSE(rejoin.active());
-  rejoin.freeze(first, 1.0);
-  rejoin.freeze(second, 2.0);
-  const auto kept = rejoin.release();
+  EXPECT_TRUE(rejoin.freeze(1, first, 1.0));
+  EXPECT_TRUE(rejoin.freeze(2, second, 2.0));
+  EXPECT_TRUE(rejoin.freeze(3, third, 3.0));
+  EXPECT_TRUE(rejoin.waiting(1));
+  EXPECT_FALSE(rejoin.waiting(2));
+  EXPECT_TRUE(rejoin.waiting(3));
+  EXPECT_EQ(rejoin.release(3).size(), third.size());
+  const auto kept = rejoin.release(1);
   ASSERT_EQ(kept.size(), first.size());
-  EXPECT_EQ(kept[0].descriptor, first[0].descriptor);
+  EXPECT_FALSE(rejoin.active());
+  RejoinOptions one;
+  one.max_maps = 1;
+  MapRejoin single(one, gmc::vo::RefinementOptions{}, gmc::vo::InPlaceThreshold{});
+  EXPECT_TRUE(single.freeze(1, first, 1.0));
+  EXPECT_FALSE(single.freeze(2, second, 2.0));
+  EXPECT_EQ(single.release(1)[0].descriptor, first[0].descriptor);
   RejoinOptions off;
   off.enabled = false;
   MapRejoin disabled(off, gmc::vo::RefinementOptions{}, gmc::vo::InPlaceThreshold{});
-  disabled.freeze(first, 1.0);
+  EXPECT_FALSE(disabled.freeze(1, first, 1.0));
   EXPECT_FALSE(disabled.active());
+}
+
+// Two maps wait, each in its own frame; attempts take them in turn, and the one the
+// camera sees (the second, an intermediate map) is found with its own correction, not
+// the first map's (whose landmarks are elsewhere).
+TEST(MapRejoin, TriesTheWaitingMapsInTurnAndFindsTheOneInView) {
+  std::mt19937 rng(11);
+  const auto far_room = room(200, rng), near_room = room(200, rng);
+  auto elsewhere = far_room;
+  for (auto& l : elsewhere) l.position += Eigen::Vector3d(0, 0, 30);  // behind a wall, out of view
+  MapRejoin rejoin(RejoinOptions{}, gmc::vo::RefinementOptions{}, gmc::vo::InPlaceThreshold{});
+  ASSERT_TRUE(rejoin.freeze(0, elsewhere, 0.0));
+  ASSERT_TRUE(rejoin.freeze(1, near_room, 1.0));
+  const Isometry T_current_1 = pose(-8, {-0.15, 0.02, 0.05});  // map 1's frame -> the current map's
+  const gmc::features::Frontend frontend;
+  std::vector<int> tried;
+  std::optional<gmc::vo::RejoinFound> found;
+  for (int k = 0; k < 6 && !found; ++k) {
+    const Isometry T_1_cur = pose(2 + k, {0.02 * k, 0, 0.1});
+    RejoinAttempt r;
+    found = rejoin.attempt(frontend, frame(near_room, T_1_cur, 100, 30, rng), T_current_1 * T_1_cur, kCamera, &r);
+    tried.push_back(r.map);
+  }
+  ASSERT_TRUE(found.has_value());
+  EXPECT_EQ(tried, (std::vector<int>{0, 1, 0, 1}));  // confirmed at map 1's second attempt
+  EXPECT_EQ(found->map, 1);
+  const Isometry error = found->T_map_current * T_current_1;
+  EXPECT_LT(error.translation().norm(), 1e-3);
+  EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle(), 1e-3);
+  EXPECT_TRUE(rejoin.waiting(0));
 }
 
 }  // namespace

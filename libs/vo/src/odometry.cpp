@@ -195,8 +195,8 @@ void RgbdOdometry::initialize(features::FeatureSet&& cur, double stamp, FrameTra
   map_start_stamp_ = last_stamp_ = stamp;
   last_tracked_ = {frame_number_, stamp, Isometry::Identity()};
   lost_frames_.clear();
-  map_frames_.clear();
-  lost_before_map_.clear();
+  records_.clear();
+  map_id_ = 0;
   lost_streak_ = 0;
   last_tracked_static_landmarks_ = 0;
   last_tracked_dynamic_share_ = 0;
@@ -207,20 +207,9 @@ void RgbdOdometry::bridge(const std::vector<std::pair<long, double>>& lost, cons
                           const RevisedPose& to, FrameTracking& out) {
   // The camera went from one pose to the other: the lost frames lie on that path (at
   // constant velocity between the two), not where they were guessed.
-  const Isometry step = from.T_world_camera.inverse() * to.T_world_camera;
-  const double span = to.stamp - from.stamp;
-  for (const auto& [number, stamp] : lost) {
-    const double fraction = span > 0 ? (stamp - from.stamp) / span : 0;
-    out.revised.push_back({number, stamp, from.T_world_camera * scaledMotion(step, fraction)});
-    reviseRecord(out.revised.back());
-  }
-}
-
-void RgbdOdometry::reviseRecord(const RevisedPose& revised) {
-  // Frame numbers increase: the record (kept while a rejoin may come) by bisection.
-  const auto it = std::lower_bound(map_frames_.begin(), map_frames_.end(), revised.frame_number,
-                                   [](const RevisedPose& r, long n) { return r.frame_number < n; });
-  if (it != map_frames_.end() && it->frame_number == revised.frame_number) it->T_world_camera = revised.T_world_camera;
+  const size_t first = out.revised.size();
+  bridgePoses(lost, from, to, out.revised);
+  for (size_t k = first; k < out.revised.size(); ++k) records_.revise(out.revised[k]);
 }
 
 void RgbdOdometry::startConsensus(double stamp) {
@@ -290,53 +279,26 @@ void RgbdOdometry::adoptConsensus(const ConsensusResult& consensus, double stamp
   pose_landmarks_ = consensus.inliers_latest;
 }
 
-void RgbdOdometry::reviseOnRejoin(const Isometry& T_old_new, FrameTracking& out) {
-  // The frames of the new map were given out in its frame, which the rejoin has just
-  // measured in the old map's: they move with it. The lost frames before the re-anchor
-  // (old map's frame) end at the re-anchored frame, now a measured pose.
-  for (auto& r : map_frames_) {
-    r.T_world_camera = T_old_new * r.T_world_camera;
-    out.revised.push_back(r);
-  }
-  last_tracked_.T_world_camera = T_old_new * last_tracked_.T_world_camera;
-  if (!map_frames_.empty()) bridge(lost_before_map_, tracked_before_map_, map_frames_.front(), out);
-  lost_before_map_.clear();
-  map_frames_.clear();  // in the old map's frame now, for good
-}
-
 void RgbdOdometry::bridgeLostFrames(FrameTracking& out) {
   // A lost frame's pose is a guess given out live. Once a frame is measured on the same
   // map again, the camera went from the last tracked pose to this one (revisions are in
   // order: a later one for the same frame supersedes an earlier one).
-  const bool revise = config_.odometry.revise_lost;
   const RevisedPose current{frame_number_, out.stamp, out.T_world_camera};
-  if (revise && rejoin_correction_) reviseOnRejoin(*rejoin_correction_, out);  // set only on a rejoin
-  rejoin_correction_.reset();
-  // Only a map that may still be rejoined keeps its frames (a rejoin that gave up drops them).
-  if (!rejoin_.active()) {
-    map_frames_.clear();
-    lost_before_map_.clear();
-  }
+  // Frames are kept only while some map may still be rejoined.
+  if (!rejoin_.active()) records_.clear();
   if (out.state == TrackingState::Lost) {
     lost_frames_.push_back({frame_number_, out.stamp});
-    if (rejoin_.active()) map_frames_.push_back(current);
+    records_.add(current);
     return;
   }
-  if (out.state == TrackingState::Tracking && revise && !lost_frames_.empty())
+  if (out.state == TrackingState::Tracking && config_.odometry.revise_lost && !lost_frames_.empty())
     bridge(lost_frames_, last_tracked_, current, out);
-  if (out.state == TrackingState::Reanchored && map_restarted_) {
-    // A re-anchored frame starts from a guess: nothing before it is bridged now, but once
-    // its map is rejoined to the one it left, the lost frames before it can be (not when
-    // an older map was already waiting: those frames are in a map that is never rejoined).
-    lost_before_map_.clear();
-    if (!rejoin_was_waiting_) lost_before_map_ = lost_frames_;
-    tracked_before_map_ = last_tracked_;
-    map_frames_.clear();
-  }
+  // A re-anchored frame starts from a guess: the lost frames before it are bridged only
+  // once its map is joined with the one they left (MapRecords, recorded at the re-anchor).
   map_restarted_ = false;
   lost_frames_.clear();
   last_tracked_ = current;
-  if (rejoin_.active()) map_frames_.push_back(current);
+  records_.add(current);
 }
 
 void RgbdOdometry::countRefound(FrameTracking& out) const {
@@ -596,8 +558,11 @@ void RgbdOdometry::startNewMap(const features::FeatureSet& cur, double stamp) {
   for (size_t i = 0; i < cur.size(); ++i) with_depth += cur.hasDepth(static_cast<int>(i)) ? 1 : 0;
   if (with_depth < config_.odometry.min_matches) return;
   map_restarted_ = true;
-  rejoin_was_waiting_ = rejoin_.active();
-  rejoin_.freeze(map_.landmarksNotSeenMoving(stamp), stamp);
+  const int left = map_id_;
+  ++map_id_;
+  rejoin_.freeze(left, map_.landmarksNotSeenMoving(stamp), stamp);
+  // The frames from here on are kept while a map left may be found again.
+  if (rejoin_.active()) records_.reanchor(left, last_tracked_, map_id_, lost_frames_);
   map_start_stamp_ = stamp;
   map_.clear();
   window_keyframes_.clear();
@@ -611,21 +576,37 @@ void RgbdOdometry::startNewMap(const features::FeatureSet& cur, double stamp) {
 
 void RgbdOdometry::tryRejoin(const features::FeatureSet& cur, const PinholeCamera& camera, double stamp,
                              FrameTracking& out) {
+  for (int map : rejoin_.giveUpExpired(stamp)) records_.forget(map);
+  if (!rejoin_.active()) return;
   const auto t0 = Clock::now();  // descriptor matching, mostly: counted with the frontend
-  const std::optional<Isometry> T_old_new = rejoin_.attempt(frontend_, cur, out.T_world_camera, camera, stamp);
+  const std::optional<RejoinFound> found = rejoin_.attempt(frontend_, cur, out.T_world_camera, camera);
   out.times.frontend += msSince(t0);
-  if (!T_old_new) return;
-  // Everything of the new map moves; velocities are relative and stay.
-  out.T_world_camera = orthonormalized(*T_old_new * out.T_world_camera);
-  rejoin_correction_ = *T_old_new;
-  T_world_last_ = *T_old_new * T_world_last_;
-  T_world_previous_ = *T_old_new * T_world_previous_;
-  for (auto& kf : window_keyframes_) kf.T_world_kf = *T_old_new * kf.T_world_kf;
-  keyframe_policy_.transform(*T_old_new);
-  map_.transform(*T_old_new);
-  map_.adopt(rejoin_.release());
-  consensus_.stop();  // the map joins one with evidence
+  if (!found) return;
+  // The younger of the two frames moves into the older (the trajectory's first frame
+  // stays): usually the current map into the one it left.
+  const bool current_moves = records_.frameOf(map_id_) > records_.frameOf(found->map);
+  std::vector<RevisedPose> revised;
+  records_.join(found->map, map_id_, found->T_map_current, revised);
+  if (config_.odometry.revise_lost) out.revised.insert(out.revised.end(), revised.begin(), revised.end());
+  std::vector<Landmark> landmarks = rejoin_.release(found->map);
   out.rejoined = true;
+  if (!current_moves) {
+    const Isometry T_current_map = found->T_map_current.inverse();
+    for (auto& l : landmarks) l.position = T_current_map * l.position;
+    map_.adopt(std::move(landmarks));
+    return;
+  }
+  // Everything of the current map moves; velocities are relative and stay.
+  const Isometry& T = found->T_map_current;
+  out.T_world_camera = orthonormalized(T * out.T_world_camera);
+  T_world_last_ = T * T_world_last_;
+  T_world_previous_ = T * T_world_previous_;
+  last_tracked_.T_world_camera = T * last_tracked_.T_world_camera;
+  for (auto& kf : window_keyframes_) kf.T_world_kf = T * kf.T_world_kf;
+  keyframe_policy_.transform(T);
+  map_.transform(T);
+  map_.adopt(std::move(landmarks));
+  consensus_.stop();  // the map joins one with evidence
 }
 
 void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, const FrameTracking& out) {

@@ -8,7 +8,9 @@
 // drifted while lost: decimetres and up to 15 degrees in the generated crowds). Once two
 // attempts in a row find the same correction (old world <- new world) on enough of
 // them, the odometry moves its new map into the old frame and takes the frozen
-// landmarks back. No I/O.
+// landmarks back. Several maps can wait (max_maps): a crowd that loses the camera twice
+// leaves an intermediate map whose frames are revised only if some map finds it; the
+// attempts take the waiting maps in turn. No I/O.
 #include <optional>
 #include <vector>
 
@@ -30,6 +32,7 @@ struct RejoinOptions {
   int max_landmarks = 3000;       ///< frozen landmarks kept (most often re-observed first)
   int ransac_iterations = 1000;   ///< 3-point hypotheses per attempt (few inliers: walkers
                                   ///< and look-alike corners share the matches)
+  int max_maps = 3;               ///< maps waiting at once (when full, the second oldest goes)
 
   template <class V>
   void visit(V& v) {
@@ -42,14 +45,25 @@ struct RejoinOptions {
     v("max_seconds", max_seconds, 0.0, 1e6, "s after the re-anchor the old map is given up");
     v("max_landmarks", max_landmarks, 3, 10000000, "old landmarks kept (most re-observed first)");
     v("ransac_iterations", ransac_iterations, 1, 100000, "3-point hypotheses per attempt");
+    v("max_maps", max_maps, 1, 100,
+      "maps waiting at once, tried in turn; when full, the oldest (the trajectory's frame) stays and the second "
+      "oldest makes room (1: the oldest only)");
   }
 };
 
 /// What one attempt found (for logs and tests).
 struct RejoinAttempt {
-  int matches = 0;  ///< descriptor matches with depth against the frozen landmarks
+  int map = -1;     ///< the waiting map tried
+  int matches = 0;  ///< descriptor matches with depth against its frozen landmarks
   int inliers = 0;  ///< of which consistent with the best correction
   bool confirmed = false;
+};
+
+/// A confirmed rejoin: the waiting map found, and T_map_current (the current map's world
+/// frame -> that map's).
+struct RejoinFound {
+  int map = -1;
+  Isometry T_map_current = Isometry::Identity();
 };
 
 class MapRejoin {
@@ -58,37 +72,46 @@ class MapRejoin {
       : options_(options), refinement_(refinement), threshold_(threshold) {}
   const RejoinOptions& options() const { return options_; }
 
-  /// Waiting for the old map (frozen landmarks held and not yet given up).
-  bool active() const { return !frozen_.empty(); }
+  /// Some map waits to be found (frozen landmarks held and not yet given up).
+  bool active() const { return !waiting_.empty(); }
+  bool waiting(int map) const;
 
-  /// Keeps `landmarks` (world frame of the map being left) at a re-anchor at `stamp`:
-  /// at most max_landmarks, the most often re-observed.
-  /// While an older map is still waiting it stays: it is the frame the trajectory
-  /// started in, and the map in between is then lost.
-  void freeze(std::vector<Landmark> landmarks, double stamp);
+  /// Keeps `landmarks` (world frame of map `map`, left at a re-anchor at `stamp`): at
+  /// most max_landmarks, the most often re-observed. Returns false when not kept
+  /// (disabled, too few landmarks, or max_maps waiting already).
+  bool freeze(int map, std::vector<Landmark> landmarks, double stamp);
 
-  /// One tracked frame of the new map at T_world_cur (new world frame). Returns the
-  /// correction T_old_new once confirmed (then take the landmarks with release()).
-  std::optional<Isometry> attempt(const features::Frontend& frontend, const features::FeatureSet& cur,
-                                  const Isometry& T_world_cur, const PinholeCamera& camera, double stamp,
-                                  RejoinAttempt* report = nullptr);
+  /// One tracked frame of the current map at T_world_cur (its world frame), tried against
+  /// the next waiting map in turn. Returns the map and correction once confirmed (take
+  /// its landmarks with release()).
+  std::optional<RejoinFound> attempt(const features::Frontend& frontend, const features::FeatureSet& cur,
+                                     const Isometry& T_world_cur, const PinholeCamera& camera,
+                                     RejoinAttempt* report = nullptr);
 
-  /// The frozen landmarks (old world frame); the rejoin is over.
-  std::vector<Landmark> release();
+  /// The waiting maps older than max_seconds, given up (their ids).
+  std::vector<int> giveUpExpired(double stamp);
+
+  /// A waiting map's frozen landmarks (its world frame); it waits no more.
+  std::vector<Landmark> release(int map);
 
  private:
-  std::optional<Isometry> correction(const features::Frontend& frontend, const features::FeatureSet& cur,
-                                     const Isometry& T_world_cur, const PinholeCamera& camera,
-                                     RejoinAttempt& report);
+  struct WaitingMap {
+    int id = -1;
+    std::vector<Landmark> frozen;     ///< its world frame
+    features::FeatureSet frozen_set;  ///< their descriptors, for matching
+    double frozen_at = 0;
+    std::optional<Isometry> candidate;  ///< its last attempt's correction, awaiting confirmation
+  };
+  std::optional<Isometry> correction(const features::Frontend& frontend, const WaitingMap& map,
+                                     const features::FeatureSet& cur, const Isometry& T_world_cur,
+                                     const PinholeCamera& camera, RejoinAttempt& report);
 
   RejoinOptions options_;
   RefinementOptions refinement_;
   InPlaceThreshold threshold_;
-  std::vector<Landmark> frozen_;     ///< old world frame
-  features::FeatureSet frozen_set_;  ///< their descriptors, for matching
-  double frozen_at_ = 0;
-  int tracked_frames_ = 0;
-  std::optional<Isometry> candidate_;  ///< the last attempt's correction, awaiting confirmation
+  std::vector<WaitingMap> waiting_;  ///< oldest first
+  int tracked_frames_ = 0;           ///< since the first map began to wait
+  size_t turn_ = 0;                  ///< the waiting map tried next
   Xorshift64 rng_{0x2545F4914F6CDD1Dull};
 };
 

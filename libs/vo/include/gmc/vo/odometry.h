@@ -13,6 +13,7 @@
 #include "gmc/vo/background.h"
 #include "gmc/vo/keyframe_policy.h"
 #include "gmc/vo/landmark_map.h"
+#include "gmc/vo/map_records.h"
 #include "gmc/vo/map_rejoin.h"
 #include "gmc/vo/pose_refinement.h"
 #include "gmc/vo/start_consensus.h"
@@ -98,13 +99,6 @@ struct StageTimes {
 enum class TrackingState { Initialized, Tracking, Lost, Reanchored };
 const char* toString(TrackingState s);
 
-/// A pose given out earlier, now known better.
-struct RevisedPose {
-  long frame_number = 0;  ///< FrameTracking::frame_number of that frame (stamps may repeat)
-  double stamp = 0;
-  Isometry T_world_camera = Isometry::Identity();
-};
-
 struct FrameTracking {
   double stamp = 0;
   long frame_number = 0;                ///< 1 for the first frame processed, then one more per frame
@@ -185,15 +179,12 @@ class RgbdOdometry {
 
   void initialize(features::FeatureSet&& cur, double stamp, FrameTracking& out);
   void bridgeLostFrames(FrameTracking& out);
-  void reviseOnRejoin(const Isometry& T_old_new, FrameTracking& out);
   void bridge(const std::vector<std::pair<long, double>>& lost, const RevisedPose& from, const RevisedPose& to,
               FrameTracking& out);
   /// A young map's frames judged together; taken, it revises their poses and the
   /// landmarks outside it become suspect.
   void judgeStart(double stamp, FrameTracking& out);
   void adoptConsensus(const ConsensusResult& consensus, double stamp, FrameTracking& out);
-  /// The kept record of a frame given out earlier (for a rejoin) follows its revision.
-  void reviseRecord(const RevisedPose& revised);
   /// The start consensus begins with a new map's first keyframe.
   void startConsensus(double stamp);
   void matchToMap(const features::FeatureSet& cur, const Isometry& T_world_pred, const PinholeCamera& camera,
@@ -212,8 +203,8 @@ class RgbdOdometry {
   /// Re-anchoring: the old landmarks and window go (the static ones wait in rejoin_),
   /// the keyframe seeds a new map.
   void startNewMap(const features::FeatureSet& cur, double stamp);
-  /// A tracked frame of a new map looks for the old one; found, everything moves back
-  /// into the old world frame.
+  /// A tracked frame of a new map looks for the maps left before; found, the younger of
+  /// the two moves into the older one's world frame.
   void tryRejoin(const features::FeatureSet& cur, const PinholeCamera& camera, double stamp, FrameTracking& out);
   /// Windowed optimisation over the last keyframes; returns the newest keyframe's pose
   /// (unchanged, and out.window_discarded set, when the result is implausible).
@@ -255,13 +246,9 @@ class RgbdOdometry {
   RevisedPose last_tracked_;                               ///< the last tracked (or first) frame
   long frame_number_ = 0;                                  ///< frames processed
   std::vector<std::pair<long, double>> lost_frames_;       ///< the lost frames since (number, stamp), same map
-  std::vector<RevisedPose> map_frames_;                     ///< frames since the current map started, as
-                                                           ///< given out or last revised (a rejoin moves them)
-  std::vector<std::pair<long, double>> lost_before_map_;    ///< lost frames right before it (old map's frame) ...
-  RevisedPose tracked_before_map_;                          ///< ... after this tracked frame
-  std::optional<Isometry> rejoin_correction_;               ///< this frame's rejoin: old map <- new map
-  bool map_restarted_ = false;                              ///< this frame's re-anchor started a new map ...
-  bool rejoin_was_waiting_ = false;                         ///< ... while an older one waited to be rejoined
+  MapRecords records_;                                      ///< frames of the maps that may be rejoined
+  int map_id_ = 0;                                          ///< the current map (0: the first; one more per re-anchor)
+  bool map_restarted_ = false;                              ///< this frame's re-anchor started a new map
   Isometry velocity_ = Isometry::Identity();  ///< last frame-to-frame motion
   bool velocity_known_ = false;               ///< false until a map's first tracked step
   double map_start_stamp_ = 0;                ///< when the current map started (young map)
