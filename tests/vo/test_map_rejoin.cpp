@@ -205,6 +205,16 @@ TEST(MapRejoin, TriesTheWaitingMapsInTurnAndFindsTheOneInView) {
   EXPECT_LT(error.translation().norm(), 1e-3);
   EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle(), 1e-3);
   EXPECT_TRUE(rejoin.waiting(0));
+  EXPECT_EQ(rejoin.waitingMaps(), (std::vector<int>{0, 1}));
+  EXPECT_EQ(rejoin.release(1).size(), near_room.size());
+  EXPECT_EQ(rejoin.waitingMaps(), std::vector<int>{0});
+  // Restricted to one map, only that one is tried (and a map not waiting is none).
+  RejoinAttempt r;
+  rejoin.attempt(frontend, frame(near_room, Isometry::Identity(), 100, 30, rng), Isometry::Identity(), kCamera, &r, 0);
+  EXPECT_EQ(r.map, 0);
+  RejoinAttempt none;
+  rejoin.attempt(frontend, frame(near_room, Isometry::Identity(), 100, 30, rng), Isometry::Identity(), kCamera, &none, 1);
+  EXPECT_EQ(none.map, -1);
 }
 
 }  // namespace

@@ -53,6 +53,12 @@ std::vector<Landmark> MapRejoin::release(int map) {
   return out;
 }
 
+std::vector<int> MapRejoin::waitingMaps() const {
+  std::vector<int> ids;
+  for (const auto& w : waiting_) ids.push_back(w.id);
+  return ids;
+}
+
 std::vector<int> MapRejoin::giveUpExpired(double stamp) {
   std::vector<int> given_up;
   for (const auto& w : waiting_)
@@ -63,14 +69,19 @@ std::vector<int> MapRejoin::giveUpExpired(double stamp) {
 
 std::optional<RejoinFound> MapRejoin::attempt(const features::Frontend& frontend, const features::FeatureSet& cur,
                                               const Isometry& T_world_cur, const PinholeCamera& camera,
-                                              RejoinAttempt* report) {
+                                              RejoinAttempt* report, int only) {
   RejoinAttempt local;
   RejoinAttempt& r = report ? *report : local;
   r = RejoinAttempt{};
   if (!active()) return std::nullopt;
   if (tracked_frames_++ % options_.every_frames != 0) return std::nullopt;
   // One waiting map per attempt, in turn: the matching cost stays that of one map.
-  WaitingMap& map = waiting_[turn_++ % waiting_.size()];
+  auto chosen = waiting_.begin() + static_cast<long>(turn_++ % waiting_.size());
+  if (only >= 0) {
+    chosen = std::find_if(waiting_.begin(), waiting_.end(), [&](const WaitingMap& w) { return w.id == only; });
+    if (chosen == waiting_.end()) return std::nullopt;
+  }
+  WaitingMap& map = *chosen;
   r.map = map.id;
   const std::optional<Isometry> found = correction(frontend, map, cur, T_world_cur, camera, r);
   if (!found) {

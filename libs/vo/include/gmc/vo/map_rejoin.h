@@ -82,11 +82,13 @@ class MapRejoin {
   bool freeze(int map, std::vector<Landmark> landmarks, double stamp);
 
   /// One tracked frame of the current map at T_world_cur (its world frame), tried against
-  /// the next waiting map in turn. Returns the map and correction once confirmed (take
-  /// its landmarks with release()).
+  /// the next waiting map in turn, or against map `only` when it is one (-1: any).
+  /// Returns the map and correction once confirmed (take its landmarks with release()).
   std::optional<RejoinFound> attempt(const features::Frontend& frontend, const features::FeatureSet& cur,
                                      const Isometry& T_world_cur, const PinholeCamera& camera,
-                                     RejoinAttempt* report = nullptr);
+                                     RejoinAttempt* report = nullptr, int only = -1);
+  /// The ids of the maps waiting, oldest first.
+  std::vector<int> waitingMaps() const;
 
   /// The waiting maps older than max_seconds, given up (their ids).
   std::vector<int> giveUpExpired(double stamp);
