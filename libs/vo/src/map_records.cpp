@@ -5,15 +5,18 @@
 
 namespace gmc::vo {
 
-Isometry poseBetween(const RevisedPose& from, const RevisedPose& to, double stamp) {
-  const Isometry step = from.T_world_camera.inverse() * to.T_world_camera;
-  const double span = to.stamp - from.stamp;
-  const double fraction = span > 0 ? (stamp - from.stamp) / span : 0;
-  const Eigen::AngleAxisd aa(step.linear());
+Isometry scaledMotion(const Isometry& motion, double fraction) {
+  const Eigen::AngleAxisd aa(motion.linear());
   Isometry part = Isometry::Identity();
   part.linear() = Eigen::AngleAxisd(aa.angle() * fraction, aa.axis()).toRotationMatrix();
-  part.translation() = step.translation() * fraction;
-  return from.T_world_camera * part;
+  part.translation() = motion.translation() * fraction;
+  return part;
+}
+
+Isometry poseBetween(const RevisedPose& from, const RevisedPose& to, double stamp) {
+  const double span = to.stamp - from.stamp;
+  const double fraction = span > 0 ? (stamp - from.stamp) / span : 0;
+  return from.T_world_camera * scaledMotion(from.T_world_camera.inverse() * to.T_world_camera, fraction);
 }
 
 void bridgePoses(const std::vector<std::pair<long, double>>& lost, const RevisedPose& from, const RevisedPose& to,

@@ -38,15 +38,6 @@ Isometry orthonormalized(const Isometry& T) {
   return out;
 }
 
-/// A fraction of a motion (rotation angle and translation scaled alike).
-Isometry scaledMotion(const Isometry& v, double fraction) {
-  const Eigen::AngleAxisd aa(v.linear());
-  Isometry h = Isometry::Identity();
-  h.linear() = Eigen::AngleAxisd(aa.angle() * fraction, aa.axis()).toRotationMatrix();
-  h.translation() = v.translation() * fraction;
-  return h;
-}
-
 }  // namespace
 
 const char* toString(TrackingState s) {
@@ -580,12 +571,12 @@ void RgbdOdometry::tryRejoin(const features::FeatureSet& cur, const PinholeCamer
   if (!rejoin_.active()) return;
   const auto t0 = Clock::now();  // descriptor matching, mostly: counted with the frontend
   // Joins grow the oldest frame still waiting (the trajectory's, while its map waits):
-  // until the current map is in it, only the map waiting in it is tried. A young intermediate map may itself be off (it started among
-  // walkers); joined first, it would carry the current map off with it (Bonn 301-460
-  // without GMC: 0.231 -> 0.300 m). Once in it, every waiting map is tried in turn.
-  const std::vector<int> waiting = rejoin_.waitingMaps();
+  // until the current map is in it, only the map waiting in it is tried. A young
+  // intermediate map may itself be off (it started among walkers); joined first, it would
+  // carry the current map off with it (Bonn 301-460 without GMC: 0.231 -> 0.300 m). Once
+  // in it, every waiting map is tried in turn.
   int only = -1;
-  for (int map : waiting)
+  for (int map : rejoin_.waitingMaps())
     if (records_.frameOf(map) < records_.frameOf(only < 0 ? map_id_ : only)) only = map;
   const std::optional<RejoinFound> found =
       rejoin_.attempt(frontend_, cur, out.T_world_camera, camera, nullptr, only);

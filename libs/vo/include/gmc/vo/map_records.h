@@ -20,6 +20,9 @@ struct RevisedPose {
   Isometry T_world_camera = Isometry::Identity();
 };
 
+/// A fraction of a motion (rotation angle and translation scaled alike).
+Isometry scaledMotion(const Isometry& motion, double fraction);
+
 /// The pose at `stamp` on the path from `from` to `to` at constant velocity (translation
 /// linear in time, rotation by the same fraction of the angle).
 Isometry poseBetween(const RevisedPose& from, const RevisedPose& to, double stamp);
