@@ -3,7 +3,7 @@
 # they are all present. Narrow MRPT set on purpose: libmrpt-dev drags in ROS and wx.
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config ccache
+  build-essential cmake pkg-config ccache python3   # python3: the evaluation scripts and their test
   libeigen3-dev libopencv-dev libopencv-contrib-dev liboctomap-dev
   libmrpt-config-dev libmrpt-obs-dev libmrpt-opengl-dev
   libtclap-dev nlohmann-json3-dev   # argument parsing, JSON (header-only)
