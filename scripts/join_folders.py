@@ -20,6 +20,9 @@ import shutil
 import statistics
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from window_eval import frames_in  # noqa: E402
+
 LISTS = ('rgb.txt', 'depth.txt', 'groundtruth.txt')
 
 
@@ -29,7 +32,7 @@ def fail(message):
 
 
 def read_list(path):
-    """(header lines, {stamp text: rest of the line})."""
+    """(header lines, {stamp text: rest of the line, without its newline})."""
     header, rows = [], {}
     with open(path) as f:
         for line in f:
@@ -38,8 +41,19 @@ def read_list(path):
                 continue
             parts = line.split(None, 1)
             if parts:
-                rows[parts[0]] = parts[1] if len(parts) > 1 else '\n'
+                rows[parts[0]] = parts[1].rstrip('\n') if len(parts) > 1 else ''
     return header, rows
+
+
+def check_no_gap(stamps):
+    """The folders must continue one another: no step over 1.5 times the median one."""
+    steps = [float(b) - float(a) for a, b in zip(stamps, stamps[1:])]
+    if not steps:
+        return
+    limit = 1.5 * statistics.median(steps)
+    for a, b, step in zip(stamps, stamps[1:], steps):
+        if step > limit:
+            fail('the folders leave a gap in rgb.txt between stamps %s and %s' % (a, b))
 
 
 def join(folders, out):
@@ -58,15 +72,10 @@ def join(folders, out):
                 union[stamp] = rest
         stamps = sorted(union, key=float)
         if name == 'rgb.txt':
-            steps = [float(b) - float(a) for a, b in zip(stamps, stamps[1:])]
-            if steps:
-                limit = 1.5 * statistics.median(steps)
-                gaps = [(a, b) for (a, b), s in zip(zip(stamps, stamps[1:]), steps) if s > limit]
-                if gaps:
-                    fail('the folders leave a gap in rgb.txt between stamps %s and %s' % gaps[0])
+            check_no_gap(stamps)
         with open(os.path.join(out, name), 'w') as f:
             f.writelines(header)
-            f.writelines('%s %s' % (s, union[s] if union[s].endswith('\n') else union[s] + '\n') for s in stamps)
+            f.writelines('%s %s\n' % (s, union[s]) for s in stamps)
     for sub in ('rgb', 'depth'):
         os.makedirs(os.path.join(out, sub))
         for folder in folders:
@@ -92,9 +101,7 @@ def main():
         shutil.rmtree(tmp, ignore_errors=True)  # nothing half-written is left behind
         raise
     os.rename(tmp, args.out)
-    with open(os.path.join(args.out, 'rgb.txt')) as f:
-        frames = sum(1 for line in f if line.strip() and not line.startswith('#'))
-    print('%s: %d frames from %d folders' % (args.out, frames, len(args.folders)))
+    print('%s: %d frames from %d folders' % (args.out, frames_in(args.out), len(args.folders)))
 
 
 if __name__ == '__main__':
