@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "../gmc/synthetic_matches.h"
 #include "gmc/vo/background.h"
 
@@ -10,6 +12,7 @@ using gmc::vo::BackgroundChoice;
 using gmc::vo::BackgroundOptions;
 using gmc::vo::BackgroundSelector;
 using gmc::vo::MatchTrust;
+using gmc::vo::Xorshift64;
 
 /// A walker covering the top 70 % of the image at 1.5 m, 13 cm from where the map saw it
 /// (1.3 m/s over three frames), in front of a background seen by a camera that moved
@@ -149,3 +152,17 @@ TEST(BackgroundSelection, OcclusionTellsTheRoomFromAGroupWalkingInFrontOfIt) {
 }
 
 }  // namespace
+
+TEST(Xorshift64, ARunSeedGivesOtherStreamsAndZeroTheBuiltInOne) {
+  const std::uint64_t built_in = 0x9E3779B97F4A7C15ull;
+  EXPECT_EQ(Xorshift64::seedFor(built_in, 0), built_in);
+  std::set<std::uint64_t> seeds{built_in};
+  for (std::uint64_t run = 1; run <= 1000; ++run) {
+    const std::uint64_t s = Xorshift64::seedFor(built_in, run);
+    EXPECT_NE(s, 0u) << run;
+    seeds.insert(s);
+  }
+  EXPECT_EQ(seeds.size(), 1001u) << "every run seed its own stream";
+  Xorshift64 a(Xorshift64::seedFor(built_in, 1)), b(Xorshift64::seedFor(built_in, 2));
+  EXPECT_NE(a.next(), b.next());
+}

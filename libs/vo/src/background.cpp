@@ -34,6 +34,15 @@ std::uint64_t Xorshift64::next() {
   return state_ * 2685821657736338717ull;
 }
 
+std::uint64_t Xorshift64::seedFor(std::uint64_t built_in, std::uint64_t run_seed) {
+  if (run_seed == 0) return built_in;
+  std::uint64_t z = built_in + run_seed * 0x9E3779B97F4A7C15ull;  // a splitmix64 step
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  z ^= z >> 31;
+  return z != 0 ? z : built_in;
+}
+
 Isometry ransacRigid(const std::vector<int>& pool, int iterations, Xorshift64& rng,
                      const std::function<Eigen::Vector3d(int)>& src, const std::function<Eigen::Vector3d(int)>& dst,
                      const std::function<double(const Isometry&)>& score, const Isometry& fallback) {

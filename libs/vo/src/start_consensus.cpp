@@ -14,7 +14,7 @@ void StartConsensus::start(const std::vector<std::pair<int, Eigen::Vector3d>>& a
     anchor_id_.push_back(id);
     anchor_world_.push_back(world);
   }
-  rng_ = Xorshift64(0x5eed5eedULL);
+  rng_ = Xorshift64(seed_);
   active_ = anchor_id_.size() >= 3;
 }
 

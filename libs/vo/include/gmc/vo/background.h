@@ -77,6 +77,10 @@ class Xorshift64 {
  public:
   explicit Xorshift64(std::uint64_t seed) : state_(seed) {}
   std::uint64_t next();
+  /// A stream's built-in seed, or (run_seed != 0) another stream derived from both
+  /// ([Odometry] random_seed): equally valid samples, for measuring how much a result
+  /// owes to chance. Never 0 (xorshift's fixed point).
+  static std::uint64_t seedFor(std::uint64_t built_in, std::uint64_t run_seed);
 
  private:
   std::uint64_t state_;
@@ -124,6 +128,8 @@ class BackgroundSelector {
  public:
   explicit BackgroundSelector(const BackgroundOptions& options, const GmcParams& gmc);
   const BackgroundOptions& options() const { return options_; }
+  /// Another sampling stream (Xorshift64::seedFor); 0 = the built-in one.
+  void reseed(std::uint64_t run_seed) { rng_ = Xorshift64(Xorshift64::seedFor(kSeed, run_seed)); }
 
   /// matches: point_ref in the predicted camera frame, so the prediction is the identity
   /// motion (the motion prior is centred there).
@@ -148,7 +154,8 @@ class BackgroundSelector {
   BackgroundOptions options_;
   GmcClassifier gmc_;
   GmcResult scratch_;
-  Xorshift64 rng_{0x9E3779B97F4A7C15ull};
+  static constexpr std::uint64_t kSeed = 0x9E3779B97F4A7C15ull;
+  Xorshift64 rng_{kSeed};
 };
 
 }  // namespace gmc::vo

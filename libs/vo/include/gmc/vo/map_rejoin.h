@@ -71,6 +71,8 @@ class MapRejoin {
   MapRejoin(const RejoinOptions& options, const RefinementOptions& refinement, const InPlaceThreshold& threshold)
       : options_(options), refinement_(refinement), threshold_(threshold) {}
   const RejoinOptions& options() const { return options_; }
+  /// Another sampling stream (Xorshift64::seedFor); 0 = the built-in one.
+  void reseed(std::uint64_t run_seed) { rng_ = Xorshift64(Xorshift64::seedFor(kSeed, run_seed)); }
 
   /// Some map waits to be found (frozen landmarks held and not yet given up).
   bool active() const { return !waiting_.empty(); }
@@ -114,7 +116,8 @@ class MapRejoin {
   std::vector<WaitingMap> waiting_;  ///< oldest first
   int tracked_frames_ = 0;           ///< since the first map began to wait
   size_t turn_ = 0;                  ///< the waiting map tried next
-  Xorshift64 rng_{0x2545F4914F6CDD1Dull};
+  static constexpr std::uint64_t kSeed = 0x2545F4914F6CDD1Dull;
+  Xorshift64 rng_{kSeed};
 };
 
 }  // namespace gmc::vo

@@ -41,6 +41,9 @@ struct OdometryOptions {
                                         ///< its weakest direction) is lost (0 = no check)
   bool revise_lost = true;              ///< once tracking resumes on the same map, the lost
                                         ///< frames' poses are revised (FrameTracking::revised)
+  int random_seed = 0;                  ///< 0: the built-in RANSAC sampling streams; another
+                                        ///< value: other, equally valid streams (how much a
+                                        ///< figure owes to chance: doc/odometry.md)
   double young_map_lost_still_share = 0.2;  ///< a lost frame stands still instead of
                                         ///< extrapolating the velocity when the map holds no
                                         ///< static evidence yet and at least this share of the
@@ -63,6 +66,8 @@ struct OdometryOptions {
       "m, lost when the position's standard deviation along its weakest direction exceeds this (0 = off)");
     v("revise_lost", revise_lost,
       "when tracking resumes on the same map, revise the lost frames' poses along the path between the tracked ones");
+    v("random_seed", random_seed, 0, 1000000000,
+      "0 = the built-in RANSAC sampling streams; another value gives other, equally valid ones");
     v("young_map_lost_still_share", young_map_lost_still_share, 0.0, 2.0,
       "lost frames in a map without static evidence stand still when this share of the last tracked "
       "frame's labelled matches were dynamic (0 = always, above 1 = never)");

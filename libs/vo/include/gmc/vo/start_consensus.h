@@ -69,6 +69,8 @@ class StartConsensus {
  public:
   explicit StartConsensus(const StartConsensusOptions& options = {}) : options_(options) {}
 
+  /// Another sampling stream from the next map on (Xorshift64::seedFor); 0 = the built-in one.
+  void reseed(std::uint64_t run_seed) { seed_ = Xorshift64::seedFor(kSeed, run_seed); }
   /// A map starts: its first keyframe's landmarks (id, world position).
   void start(const std::vector<std::pair<int, Eigen::Vector3d>>& anchors);
   void stop();
@@ -98,7 +100,9 @@ class StartConsensus {
   std::vector<Eigen::Vector3d> anchor_world_;  ///< world position per anchor (as created)
   std::vector<ConsensusFrame> frames_;         ///< kept frames, observations as (anchor index, point)
   std::vector<std::vector<int>> slot_;         ///< per frame, per anchor: observation index or -1
-  Xorshift64 rng_{0x5eed5eedULL};
+  static constexpr std::uint64_t kSeed = 0x5eed5eedULL;
+  std::uint64_t seed_ = kSeed;
+  Xorshift64 rng_{kSeed};
 };
 
 }  // namespace gmc::vo
