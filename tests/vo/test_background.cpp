@@ -151,8 +151,6 @@ TEST(BackgroundSelection, OcclusionTellsTheRoomFromAGroupWalkingInFrontOfIt) {
   EXPECT_GT(room_inliers, 200);
 }
 
-}  // namespace
-
 TEST(Xorshift64, ARunSeedGivesOtherStreamsAndZeroTheBuiltInOne) {
   const std::uint64_t built_in = 0x9E3779B97F4A7C15ull;
   EXPECT_EQ(Xorshift64::seedFor(built_in, 0), built_in);
@@ -166,3 +164,5 @@ TEST(Xorshift64, ARunSeedGivesOtherStreamsAndZeroTheBuiltInOne) {
   Xorshift64 a(Xorshift64::seedFor(built_in, 1)), b(Xorshift64::seedFor(built_in, 2));
   EXPECT_NE(a.next(), b.next());
 }
+
+}  // namespace
