@@ -1,0 +1,174 @@
+#!/usr/bin/env python3
+"""The evaluation sets that the odometry's choices are made and reported on, and their comparison.
+
+doc/odometry.md judges every variant by "better / worse (10 %)" and the geometric mean
+of the ATE ratios over fixed sets of runs. This script is those sets:
+
+  choice  seeds 1-4 of crowd, crowd_hover, crowd_start, stop_and_go_hover; synchronous 1-2;
+          TUM fr3 teddy from frames 0/3/6/9/12 (23 runs): what choices are made on
+  held    seeds 11-14 of crowd_hover, crowd_start, stop_and_go_hover; crowd 11-16 (18)
+  other   seeds 1-4 of stop_and_go, person_tracking, walkers_xyz, close_pass;
+          synchronous 3-4 and 11-14 (22)
+  bonn    both Bonn folders whole, every 100-frame window (step 10), starts 3/6/9/12 (23):
+          read, never chosen on
+
+Generated sequences are 300 frames (config/sim/<scenario>.ini, --seed), made once into
+--data and reused; real folders come from --shared and a set whose folder is absent is
+skipped with a message. Each run is gmc-rgbd-mapping without the map, then gmc-eval.
+
+  scripts/set_eval.py run out/sets/base.json --sets choice,bonn [--set Section.key=value]
+      [--random-seed K] [--bin build/bin] [--jobs 2]
+  scripts/set_eval.py compare out/sets/base.json out/sets/new.json
+
+"compare" prints, per set, the runs in both files, how many are more than 10 % better
+or worse, the geometric mean of the ratios new / base, and the runs that moved.
+"""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+from concurrent.futures import ThreadPoolExecutor
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from window_eval import frames_in, run_window  # noqa: E402
+
+GENERATED_FRAMES = 300
+MOVED = 0.1  # a run is better or worse when its ATE moves by more than this share
+
+
+def generated(scenarios, seeds):
+    return [(s, k) for s in scenarios for k in seeds]
+
+
+SETS = {
+    'choice': {'generated': generated(['crowd', 'crowd_hover', 'crowd_start', 'stop_and_go_hover'], [1, 2, 3, 4])
+               + generated(['synchronous'], [1, 2]),
+               'teddy_starts': [0, 3, 6, 9, 12]},
+    'held': {'generated': generated(['crowd_hover', 'crowd_start', 'stop_and_go_hover'], [11, 12, 13, 14])
+             + generated(['crowd'], [11, 12, 13, 14, 15, 16])},
+    'other': {'generated': generated(['stop_and_go', 'person_tracking', 'walkers_xyz', 'close_pass'], [1, 2, 3, 4])
+              + generated(['synchronous'], [3, 4, 11, 12, 13, 14])},
+    'bonn': {'bonn': True},
+}
+TEDDY = 'tum_fr3_teddy_1_100'
+BONN = ['bonn_crowd_240_389', 'bonn_crowd_301_460']
+
+
+def runs_of(set_name, args):
+    """(run name, config, folder, first frame, frame count) of one set; count 0 is 'to the end'."""
+    spec, runs = SETS[set_name], []
+    for scenario, seed in spec.get('generated', []):
+        folder = os.path.join(args.data, '%s_seed%d_%d' % (scenario, seed, GENERATED_FRAMES))
+        runs.append(('%s %d' % (scenario, seed), 'config/default.ini', folder, 0, 0))
+    if spec.get('teddy_starts'):
+        folder = os.path.join(args.shared, TEDDY)
+        if os.path.isdir(folder):
+            runs += [('teddy +%d' % f, 'config/tum_fr3.ini', folder, f, 0) for f in spec['teddy_starts']]
+        else:
+            print('set_eval.py: %s absent, the teddy runs of set %s are skipped' % (folder, set_name))
+    if spec.get('bonn'):
+        for name in BONN:
+            folder = os.path.join(args.shared, name)
+            if not os.path.isdir(folder):
+                print('set_eval.py: %s absent, its runs of set %s are skipped' % (folder, set_name))
+                continue
+            short = name.replace('bonn_crowd_', '')
+            runs.append(('%s whole' % short, 'config/bonn.ini', folder, 0, 0))
+            runs += [('%s window +%d' % (short, s), 'config/bonn.ini', folder, s, 100)
+                     for s in range(0, frames_in(folder) - 100 + 1, 10)]
+            runs += [('%s start %d' % (short, s), 'config/bonn.ini', folder, s, 0) for s in (3, 6, 9, 12)]
+    return runs
+
+
+def generate(args, folder):
+    if os.path.exists(os.path.join(folder, 'groundtruth.txt')):
+        return
+    base = os.path.basename(folder)
+    scenario, rest = base.rsplit('_seed', 1)
+    seed = int(rest.split('_')[0])
+    subprocess.run([os.path.join(args.bin, 'gmc-sim'), 'config/sim/%s.ini' % scenario, '--out', folder,
+                    '--seed', str(seed), '--frames', str(GENERATED_FRAMES)], check=True, stdout=subprocess.DEVNULL)
+
+
+def run(args):
+    runs = [(s, r) for s in args.sets.split(',') for r in runs_of(s, args)]
+    for _, r in runs:
+        if r[2].startswith(args.data):
+            generate(args, r[2])
+    sets = [] if args.random_seed == 0 else ['Odometry.random_seed=%d' % args.random_seed]
+
+    def one(item):
+        set_name, (name, config, folder, first, count) = item
+        window_args = argparse.Namespace(bin=args.bin, config=config, set=args.set + sets)
+        with tempfile.TemporaryDirectory() as tmp:
+            ate, still, summary = run_window(window_args, folder, first, count, tmp)
+        print('%-7s %-28s %.4f (standing still %.4f, lost %d)' % (set_name, name, ate, still,
+                                                                  summary.get('lost', 0)), flush=True)
+        return set_name, name, {'ate': ate, 'still': still, 'lost': summary.get('lost', 0)}
+
+    report = {}
+    with ThreadPoolExecutor(args.jobs) as pool:
+        for set_name, name, figures in pool.map(one, runs):
+            report.setdefault(set_name, {})[name] = figures
+    os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
+    tmp = args.out + '.tmp'
+    with open(tmp, 'w') as f:
+        json.dump({'set': args.set, 'random_seed': args.random_seed, 'runs': report}, f, indent=1)
+    os.replace(tmp, args.out)
+
+
+def compare_set(base, new):
+    """Counts and geometric mean ratio new / base over the runs in both: the doc's score."""
+    names = [n for n in base if n in new]
+    ratios = {n: max(new[n]['ate'], 1e-9) / max(base[n]['ate'], 1e-9) for n in names}
+    better = [n for n in names if ratios[n] < 1 - MOVED]
+    worse = [n for n in names if ratios[n] > 1 + MOVED]
+    geo = math.exp(sum(math.log(r) for r in ratios.values()) / len(ratios)) if ratios else float('nan')
+    return {'runs': len(names), 'better': better, 'worse': worse, 'geometric_mean': geo, 'ratios': ratios}
+
+
+def compare(args):
+    with open(args.base) as f:
+        base = json.load(f)['runs']
+    with open(args.new) as f:
+        new = json.load(f)['runs']
+    for set_name in base:
+        if set_name not in new:
+            continue
+        c = compare_set(base[set_name], new[set_name])
+        print('%s: %d runs, %d better / %d worse (%d %%), geometric mean ratio %.3f' % (
+            set_name, c['runs'], len(c['better']), len(c['worse']), MOVED * 100, c['geometric_mean']))
+        for n in sorted(c['better'] + c['worse'], key=lambda n: -abs(math.log(c['ratios'][n]))):
+            print('  %-28s %.4f -> %.4f' % (n, base[set_name][n]['ate'], new[set_name][n]['ate']))
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = p.add_subparsers(dest='command', required=True)
+    r = sub.add_parser('run', help='run sets, write their figures to a JSON file')
+    r.add_argument('out')
+    r.add_argument('--sets', default='choice')
+    r.add_argument('--bin', default='build/bin')
+    r.add_argument('--data', default='out/seeds', help='generated sequences, made once and reused')
+    r.add_argument('--shared', default=os.environ.get('GMC_DATA_DIR', '../shared/data'))
+    r.add_argument('--set', action='append', default=[], help='Section.key=value for every run')
+    r.add_argument('--random-seed', type=int, default=0, help='[Odometry] random_seed of every run')
+    r.add_argument('--jobs', type=int, default=2)
+    c = sub.add_parser('compare', help='score a new run of the sets against a base')
+    c.add_argument('base')
+    c.add_argument('new')
+    args = p.parse_args()
+    if args.command == 'run':
+        unknown = [s for s in args.sets.split(',') if s not in SETS]
+        if unknown:
+            sys.exit('set_eval.py: unknown set %s (sets: %s)' % (', '.join(unknown), ', '.join(SETS)))
+        run(args)
+    else:
+        compare(args)
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,87 @@
+#!/usr/bin/env python3
+"""scripts/set_eval.py: the score of a variant against a base (the doc's "better / worse (10 %)"
+and geometric mean ratio), the sets' make-up, and the comparison's output.
+
+  test_set_eval.py PATH/TO/set_eval.py
+"""
+import argparse
+import importlib.util
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+SCRIPT = sys.argv.pop(1) if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), '../../scripts/set_eval.py')
+spec = importlib.util.spec_from_file_location('set_eval', SCRIPT)
+set_eval = importlib.util.module_from_spec(spec)
+sys.path.insert(0, os.path.dirname(os.path.abspath(SCRIPT)))
+spec.loader.exec_module(set_eval)
+
+
+def runs(**ates):
+    return {name.replace('_', ' '): {'ate': ate, 'still': 0.05, 'lost': 0} for name, ate in ates.items()}
+
+
+class CompareSet(unittest.TestCase):
+    def test_counts_moves_beyond_ten_percent_and_the_geometric_mean_of_the_ratios(self):
+        base = runs(a=0.010, b=0.020, c=0.040, d=0.030)
+        new = runs(a=0.005, b=0.021, c=0.080, d=0.0305)
+        c = set_eval.compare_set(base, new)
+        self.assertEqual(c['runs'], 4)
+        self.assertEqual(c['better'], ['a'])
+        self.assertEqual(c['worse'], ['c'])
+        expected = math.exp((math.log(0.5) + math.log(1.05) + math.log(2.0) + math.log(0.0305 / 0.030)) / 4)
+        self.assertAlmostEqual(c['geometric_mean'], expected, places=12)
+
+    def test_only_runs_in_both_files_count(self):
+        c = set_eval.compare_set(runs(a=0.01, b=0.02), runs(b=0.01, e=0.5))
+        self.assertEqual(c['runs'], 1)
+        self.assertEqual(c['better'], ['b'])
+        self.assertAlmostEqual(c['geometric_mean'], 0.5)
+
+    def test_an_unchanged_set_scores_one_with_nothing_moved(self):
+        base = runs(a=0.01, b=0.02)
+        c = set_eval.compare_set(base, base)
+        self.assertEqual((c['better'], c['worse']), ([], []))
+        self.assertAlmostEqual(c['geometric_mean'], 1.0)
+
+
+class Sets(unittest.TestCase):
+    def test_the_sets_have_the_sizes_the_doc_reports(self):
+        with tempfile.TemporaryDirectory() as shared:
+            for name in [set_eval.TEDDY] + set_eval.BONN:
+                os.makedirs(os.path.join(shared, name))
+            for name, frames in zip(set_eval.BONN, (150, 160)):
+                with open(os.path.join(shared, name, 'rgb.txt'), 'w') as f:
+                    f.writelines('%d rgb/%d.png\n' % (i, i) for i in range(frames))
+            args = argparse.Namespace(data='out/seeds', shared=shared)
+            sizes = {s: len(set_eval.runs_of(s, args)) for s in set_eval.SETS}
+        self.assertEqual(sizes, {'choice': 23, 'held': 18, 'other': 22, 'bonn': 23})
+
+    def test_absent_real_folders_are_skipped_not_run(self):
+        with tempfile.TemporaryDirectory() as shared:
+            args = argparse.Namespace(data='out/seeds', shared=shared)
+            names = [r[0] for r in set_eval.runs_of('choice', args)]
+            self.assertEqual(len(names), 18)
+            self.assertFalse(any(n.startswith('teddy') for n in names))
+            self.assertEqual(set_eval.runs_of('bonn', args), [])
+
+
+class CompareCommand(unittest.TestCase):
+    def test_prints_each_set_and_the_runs_that_moved(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            for name, ates in (('base', runs(a=0.01, b=0.02)), ('new', runs(a=0.02, b=0.02))):
+                with open(os.path.join(tmp, name + '.json'), 'w') as f:
+                    json.dump({'set': [], 'random_seed': 0, 'runs': {'choice': ates}}, f)
+            out = subprocess.run([sys.executable, SCRIPT, 'compare', os.path.join(tmp, 'base.json'),
+                                  os.path.join(tmp, 'new.json')], check=True, capture_output=True, text=True).stdout
+        self.assertIn('choice: 2 runs, 0 better / 1 worse (10 %), geometric mean ratio 1.414', out)
+        self.assertIn('a', out.splitlines()[1])
+        self.assertIn('0.0100 -> 0.0200', out)
+
+
+if __name__ == '__main__':
+    unittest.main()
