@@ -49,6 +49,15 @@ class CompareSet(unittest.TestCase):
         self.assertAlmostEqual(c['geometric_mean'], 1.0)
 
 
+class MedianRun(unittest.TestCase):
+    def test_a_run_over_streams_is_its_median_with_every_stream_kept(self):
+        figures = [{'ate': a, 'still': 0.05, 'lost': lost} for a, lost in ((0.03, 3), (0.01, 1), (1.2, 9))]
+        r = set_eval.median_run(figures)
+        self.assertEqual(r['ate'], 0.03)
+        self.assertEqual(r['ate_per_seed'], [0.03, 0.01, 1.2])
+        self.assertEqual(r['lost'], 3)  # the median stream's
+
+
 class Sets(unittest.TestCase):
     def test_the_sets_have_the_sizes_the_doc_reports(self):
         with tempfile.TemporaryDirectory() as shared:
@@ -75,7 +84,7 @@ class CompareCommand(unittest.TestCase):
         with tempfile.TemporaryDirectory() as tmp:
             for name, ates in (('base', runs(a=0.01, b=0.02)), ('new', runs(a=0.02, b=0.02))):
                 with open(os.path.join(tmp, name + '.json'), 'w') as f:
-                    json.dump({'set': [], 'random_seed': 0, 'runs': {'choice': ates}}, f)
+                    json.dump({'set': [], 'random_seeds': 1, 'runs': {'choice': ates}}, f)
             out = subprocess.run([sys.executable, SCRIPT, 'compare', os.path.join(tmp, 'base.json'),
                                   os.path.join(tmp, 'new.json')], check=True, capture_output=True, text=True).stdout
         self.assertIn('choice: 2 runs, 0 better / 1 worse (10 %), geometric mean ratio 1.414', out)
