@@ -29,12 +29,21 @@ START_FRAMES = 30  # 1 s at 30 Hz: a map's first second, before landmarks can ha
 START_FAILED = 0.1  # m off after it: the start followed something that moved
 
 
-def generate(args, seed):
-    folder = os.path.join(args.data, '%s_seed%d_%d' % (args.scenario, seed, args.frames))
+def sequence_folder(data, scenario, seed, frames):
+    return os.path.join(data, '%s_seed%d_%d' % (scenario, seed, frames))
+
+
+def generate_sequence(bin_dir, data, scenario, seed, frames):
+    """config/sim/<scenario>.ini at one seed, made into data once and reused; its folder."""
+    folder = sequence_folder(data, scenario, seed, frames)
     if not os.path.exists(os.path.join(folder, 'groundtruth.txt')):
-        subprocess.run([os.path.join(args.bin, 'gmc-sim'), 'config/sim/%s.ini' % args.scenario, '--out', folder,
-                        '--seed', str(seed), '--frames', str(args.frames)], check=True, stdout=subprocess.DEVNULL)
+        subprocess.run([os.path.join(bin_dir, 'gmc-sim'), 'config/sim/%s.ini' % scenario, '--out', folder,
+                        '--seed', str(seed), '--frames', str(frames)], check=True, stdout=subprocess.DEVNULL)
     return folder
+
+
+def generate(args, seed):
+    return generate_sequence(args.bin, args.data, args.scenario, seed, args.frames)
 
 
 def main():

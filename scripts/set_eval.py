@@ -33,12 +33,12 @@ import json
 import math
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from seed_eval import generate_sequence, sequence_folder  # noqa: E402
 from window_eval import frames_in, run_window  # noqa: E402
 
 GENERATED_FRAMES = 300
@@ -67,7 +67,7 @@ def runs_of(set_name, args):
     """(run name, config, folder, first frame, frame count) of one set; count 0 is 'to the end'."""
     spec, runs = SETS[set_name], []
     for scenario, seed in spec.get('generated', []):
-        folder = os.path.join(args.data, '%s_seed%d_%d' % (scenario, seed, GENERATED_FRAMES))
+        folder = sequence_folder(args.data, scenario, seed, GENERATED_FRAMES)
         runs.append(('%s %d' % (scenario, seed), 'config/default.ini', folder, 0, 0))
     if spec.get('teddy_starts'):
         folder = os.path.join(args.shared, TEDDY)
@@ -89,21 +89,12 @@ def runs_of(set_name, args):
     return runs
 
 
-def generate(args, folder):
-    if os.path.exists(os.path.join(folder, 'groundtruth.txt')):
-        return
-    base = os.path.basename(folder)
-    scenario, rest = base.rsplit('_seed', 1)
-    seed = int(rest.split('_')[0])
-    subprocess.run([os.path.join(args.bin, 'gmc-sim'), 'config/sim/%s.ini' % scenario, '--out', folder,
-                    '--seed', str(seed), '--frames', str(GENERATED_FRAMES)], check=True, stdout=subprocess.DEVNULL)
-
-
 def run(args):
-    runs = [(s, r) for s in args.sets.split(',') for r in runs_of(s, args)]
-    for _, r in runs:
-        if r[2].startswith(args.data):
-            generate(args, r[2])
+    sets = args.sets.split(',')
+    for set_name in sets:
+        for scenario, seed in SETS[set_name].get('generated', []):
+            generate_sequence(args.bin, args.data, scenario, seed, GENERATED_FRAMES)
+    runs = [(s, r) for s in sets for r in runs_of(s, args)]
 
     def one(item):
         (set_name, (name, config, folder, first, count)), random_seed = item
