@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <vector>
 
 #include "gmc/vo/window_optimizer.h"
 
@@ -163,6 +164,42 @@ TEST(WindowOptimizer, AShiftFarBeyondTheTrackedPosesUncertaintyIsImplausible) {
   gmc::vo::WindowOptions never = options;
   never.max_shift_sigmas = 0;
   EXPECT_TRUE(gmc::vo::plausibleWindowShift(tracked, moved(0.25), 0.0032, never));
+}
+
+TEST(WindowSelection, WithoutAPoolTheFixedKeyframesAreTheOnesJustBefore) {
+  gmc::vo::WindowOptions options;  // 6 keyframes, 2 fixed
+  options.covisible_pool = 0;
+  const std::vector<std::vector<int>> few = {{1, 2}, {2, 3}, {3, 4}};
+  EXPECT_EQ(gmc::vo::selectWindowKeyframes(few, options), (std::vector<size_t>{0, 1, 2}));
+  std::vector<std::vector<int>> many(9, std::vector<int>{1, 2, 3});
+  EXPECT_EQ(gmc::vo::selectWindowKeyframes(many, options), (std::vector<size_t>{3, 4, 5, 6, 7, 8}));
+}
+
+TEST(WindowSelection, APoolFixesTheKeyframesThatSawTheSamePlace) {
+  // A camera that looked at place A (landmarks 0-99), turned to B (100-199) and came back:
+  // the moved keyframes see A again, and A's keyframes anchor them, not B's just before.
+  gmc::vo::WindowOptions options;
+  options.covisible_pool = 20;
+  const auto place = [](int first, int count) {
+    std::vector<int> ids;
+    for (int i = 0; i < count; ++i) ids.push_back(first + i);
+    return ids;
+  };
+  std::vector<std::vector<int>> kept;
+  kept.push_back(place(0, 100));   // 0: A
+  kept.push_back(place(10, 100));  // 1: A, mostly
+  kept.push_back(place(100, 80));  // 2-5: B
+  kept.push_back(place(110, 80));
+  kept.push_back(place(120, 80));
+  kept.push_back(place(130, 80));
+  for (int k = 0; k < 4; ++k) kept.push_back(place(5 + 2 * k, 90));  // 6-9: A again, moved
+  EXPECT_EQ(gmc::vo::selectWindowKeyframes(kept, options), (std::vector<size_t>{0, 1, 6, 7, 8, 9}));
+  // Equally shared: the newer ones.
+  std::vector<std::vector<int>> same(10, place(0, 50));
+  EXPECT_EQ(gmc::vo::selectWindowKeyframes(same, options), (std::vector<size_t>{4, 5, 6, 7, 8, 9}));
+  // Without the pool the same keyframes give the ones just before.
+  options.covisible_pool = 0;
+  EXPECT_EQ(gmc::vo::selectWindowKeyframes(kept, options), (std::vector<size_t>{4, 5, 6, 7, 8, 9}));
 }
 
 }  // namespace

@@ -631,7 +631,7 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
   }
   ++keyframe_count_;
   window_keyframes_.push_back(std::move(kf));
-  const size_t capacity = static_cast<size_t>(std::max(1, config_.window.keyframes));
+  const size_t capacity = window_.keptKeyframes();
   if (window_keyframes_.size() > capacity)
     window_keyframes_.erase(window_keyframes_.begin(),
                             window_keyframes_.begin() + static_cast<long>(window_keyframes_.size() - capacity));
@@ -653,21 +653,29 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
 }
 
 Isometry RgbdOdometry::optimizeWindow(const PinholeCamera& camera, double stamp, FrameTracking& out) {
+  // The keyframes taking part (the fixed ones first), chosen by the landmarks they observe.
+  const auto usable = [&](int id) { return map_[id].alive && map_.evidence(id, stamp) != Evidence::Suspect; };
+  std::vector<std::vector<int>> observed(window_keyframes_.size());
+  for (size_t k = 0; k < window_keyframes_.size(); ++k) {
+    for (const auto& ob : window_keyframes_[k].observations)
+      if (usable(ob.landmark)) observed[k].push_back(ob.landmark);
+    std::sort(observed[k].begin(), observed[k].end());
+  }
+  const std::vector<size_t> window = selectWindowKeyframes(observed, config_.window);
   // Static landmarks seen from at least min_observations keyframes of the window.
   std::map<int, int> index_of;  // landmark id -> point index
   std::map<int, int> count;
-  for (const auto& kf : window_keyframes_)
-    for (const auto& ob : kf.observations)
-      if (map_[ob.landmark].alive && map_.evidence(ob.landmark, stamp) != Evidence::Suspect) ++count[ob.landmark];
+  for (size_t k : window)
+    for (int id : observed[k]) ++count[id];
   WindowProblem problem;
   for (const auto& [id, n] : count) {
     if (n < config_.window.min_observations) continue;
     index_of[id] = static_cast<int>(problem.points.size());
     problem.points.push_back(map_[id].position);
   }
-  for (size_t k = 0; k < window_keyframes_.size(); ++k) {
-    problem.poses.push_back(window_keyframes_[k].T_world_kf.inverse());
-    for (auto ob : window_keyframes_[k].observations) {
+  for (size_t k = 0; k < window.size(); ++k) {
+    problem.poses.push_back(window_keyframes_[window[k]].T_world_kf.inverse());
+    for (auto ob : window_keyframes_[window[k]].observations) {
       const auto it = index_of.find(ob.landmark);
       if (it == index_of.end()) continue;
       ob.keyframe = static_cast<int>(k);
@@ -677,7 +685,7 @@ Isometry RgbdOdometry::optimizeWindow(const PinholeCamera& camera, double stamp,
   }
   // Every keyframe it moves must be held by enough static landmarks, or the window would
   // let a weakly observed pose swing.
-  std::vector<int> per_keyframe(window_keyframes_.size(), 0);
+  std::vector<int> per_keyframe(window.size(), 0);
   for (const auto& ob : problem.observations) ++per_keyframe[static_cast<size_t>(ob.keyframe)];
   const int min_per_keyframe = config_.odometry.min_static_inliers;
   const size_t fixed = window_.fixedPoses();
@@ -692,7 +700,7 @@ Isometry RgbdOdometry::optimizeWindow(const PinholeCamera& camera, double stamp,
     out.window_discarded = true;
     return window_keyframes_.back().T_world_kf;
   }
-  for (size_t k = 0; k < window_keyframes_.size(); ++k) window_keyframes_[k].T_world_kf = problem.poses[k].inverse();
+  for (size_t k = 0; k < window.size(); ++k) window_keyframes_[window[k]].T_world_kf = problem.poses[k].inverse();
   for (const auto& [id, j] : index_of) map_.setPosition(id, problem.points[static_cast<size_t>(j)]);
   return window_keyframes_.back().T_world_kf;
 }

@@ -225,4 +225,38 @@ WindowResult WindowOptimizer::optimize(WindowProblem& pb, const PinholeCamera& c
   return result;
 }
 
+std::vector<size_t> selectWindowKeyframes(const std::vector<std::vector<int>>& landmarks_per_keyframe,
+                                          const WindowOptions& options) {
+  const size_t kept = landmarks_per_keyframe.size();
+  const size_t window = static_cast<size_t>(std::max(1, options.keyframes));
+  const size_t fixed = static_cast<size_t>(std::max(1, options.fixed_keyframes));
+  std::vector<size_t> chosen;
+  if (kept <= window || window <= fixed || options.covisible_pool == 0) {
+    for (size_t k = kept - std::min(kept, window); k < kept; ++k) chosen.push_back(k);
+    return chosen;
+  }
+  const size_t first_moved = kept - (window - fixed);
+  std::vector<int> moved;
+  for (size_t k = first_moved; k < kept; ++k)
+    moved.insert(moved.end(), landmarks_per_keyframe[k].begin(), landmarks_per_keyframe[k].end());
+  std::sort(moved.begin(), moved.end());
+  moved.erase(std::unique(moved.begin(), moved.end()), moved.end());
+  std::vector<std::pair<size_t, size_t>> shared;  // (landmarks shared, index), best last
+  for (size_t k = 0; k < first_moved; ++k) {
+    const auto& own = landmarks_per_keyframe[k];
+    size_t n = 0;
+    for (size_t i = 0, j = 0; i < own.size() && j < moved.size();) {
+      if (own[i] < moved[j]) ++i;
+      else if (moved[j] < own[i]) ++j;
+      else ++n, ++i, ++j;
+    }
+    shared.emplace_back(n, k);
+  }
+  std::sort(shared.begin(), shared.end());
+  for (size_t k = 0; k < std::min(fixed, shared.size()); ++k) chosen.push_back(shared[shared.size() - 1 - k].second);
+  std::sort(chosen.begin(), chosen.end());
+  for (size_t k = first_moved; k < kept; ++k) chosen.push_back(k);
+  return chosen;
+}
+
 }  // namespace gmc::vo

@@ -24,6 +24,9 @@ struct WindowOptions {
   double outlier_gate = 2.45;  ///< after half the iterations, an observation whose whitened
                                ///< pixel or depth residual exceeds this leaves the problem
                                ///< (sqrt of chi2(2 dof, 95 %) = 5.991; 0 = Huber only)
+  int covisible_pool = 40;     ///< keyframes of the map kept, from which the fixed ones are the
+                               ///< fixed_keyframes sharing the most landmarks with the moved ones
+                               ///< (0 = the keyframes just before the moved ones; twenty-third round)
 
   template <class V>
   void visit(V& v) {
@@ -35,6 +38,9 @@ struct WindowOptions {
     v("fixed_keyframes", fixed_keyframes, 1, 64, "oldest keyframes of the window held fixed");
     v("outlier_gate", outlier_gate, 0.0, 1e6,
       "whitened pixel or depth residual beyond which an observation leaves the window halfway (0 = Huber only)");
+    v("covisible_pool", covisible_pool, 0, 10000,
+      "keyframes kept; the fixed ones are those of them sharing the most landmarks with the moved ones (0 = the "
+      "keyframes just before)");
   }
 };
 
@@ -66,6 +72,15 @@ struct WindowResult {
 bool plausibleWindowShift(const Isometry& T_world_tracked, const Isometry& T_world_optimized, double tracked_sigma,
                           const WindowOptions& options);
 
+/// The kept keyframes (indices, oldest first) one optimisation takes, given the landmarks
+/// each observes (sorted ids, oldest keyframe first): the newest keyframes - fixed_keyframes
+/// move; before them, the fixed ones. Without a pool they are the keyframes just before;
+/// with one, the older keyframes sharing the most landmarks with the moved ones (ties: the
+/// newer), as ORB-SLAM2 anchors its local window on covisible keyframes: a hovering or
+/// returning camera is held by the keyframes that saw the same place, not by the last few.
+std::vector<size_t> selectWindowKeyframes(const std::vector<std::vector<int>>& landmarks_per_keyframe,
+                                          const WindowOptions& options);
+
 class WindowOptimizer {
  public:
   explicit WindowOptimizer(const WindowOptions& options = {}, const RefinementOptions& noise = {})
@@ -73,6 +88,10 @@ class WindowOptimizer {
   const WindowOptions& options() const { return options_; }
   /// Poses at the start of a problem that optimize() holds fixed (at least 1: the gauge).
   size_t fixedPoses() const { return static_cast<size_t>(std::max(1, options_.fixed_keyframes)); }
+  /// Keyframes worth keeping: the window, or the pool its fixed keyframes are chosen from.
+  size_t keptKeyframes() const {
+    return static_cast<size_t>(std::max({1, options_.keyframes, options_.covisible_pool}));
+  }
 
   /// Refines the poses after the fixed ones and problem.points in place. Nothing moves
   /// when the window holds no more poses than it fixes.
