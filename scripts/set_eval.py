@@ -26,7 +26,9 @@ them are kept in the file): a null change moves a quarter of single runs by more
 10 % (doc/odometry.md, twenty-first round).
 
 "compare" prints, per set, the runs in both files, how many are more than 10 % better
-or worse, the geometric mean of the ratios new / base, and the runs that moved.
+or worse, the geometric mean of the ratios new / base, with several streams that mean
+per stream (stream k against stream k) and the stream-runs above 0.5 m, and the runs
+that moved.
 """
 import argparse
 import json
@@ -43,6 +45,7 @@ from window_eval import frames_in, run_window  # noqa: E402
 
 GENERATED_FRAMES = 300
 MOVED = 0.1  # a run is better or worse when its ATE moves by more than this share
+FAILED = 0.5  # m: a stream's run this far off followed something that was not the room
 
 
 def generated(scenarios, seeds):
@@ -131,8 +134,21 @@ def compare_set(base, new):
     ratios = {n: max(new[n]['ate'], 1e-9) / max(base[n]['ate'], 1e-9) for n in names}
     better = [n for n in names if ratios[n] < 1 - MOVED]
     worse = [n for n in names if ratios[n] > 1 + MOVED]
-    geo = math.exp(sum(math.log(r) for r in ratios.values()) / len(ratios)) if ratios else float('nan')
-    return {'runs': len(names), 'better': better, 'worse': worse, 'geometric_mean': geo, 'ratios': ratios}
+    geo = geometric_mean(ratios.values())
+    # Stream k of every run against stream k of the base: a change that only helps on
+    # average over streams shows one stream above 1.
+    streams = min((len(r.get('ate_per_seed', [])) for r in [base[n] for n in names] + [new[n] for n in names]),
+                  default=0)
+    per_stream = [geometric_mean(max(new[n]['ate_per_seed'][k], 1e-9) / max(base[n]['ate_per_seed'][k], 1e-9)
+                                 for n in names) for k in range(streams)]
+    failures = [sum(1 for a in new[n].get('ate_per_seed', [new[n]['ate']]) if a > FAILED) for n in names]
+    return {'runs': len(names), 'better': better, 'worse': worse, 'geometric_mean': geo, 'ratios': ratios,
+            'per_stream': per_stream, 'failed_stream_runs': sum(failures)}
+
+
+def geometric_mean(values):
+    values = list(values)
+    return math.exp(sum(math.log(v) for v in values) / len(values)) if values else float('nan')
 
 
 def compare(args):
@@ -146,6 +162,10 @@ def compare(args):
         c = compare_set(base[set_name], new[set_name])
         print('%s: %d runs, %d better / %d worse (%d %%), geometric mean ratio %.3f' % (
             set_name, c['runs'], len(c['better']), len(c['worse']), MOVED * 100, c['geometric_mean']))
+        if c['per_stream']:
+            print('  per stream: %s; stream-runs above %.1f m: %d (base %d)' % (
+                ' / '.join('%.3f' % g for g in c['per_stream']), FAILED, c['failed_stream_runs'],
+                compare_set(base[set_name], base[set_name])['failed_stream_runs']))
         for n in sorted(c['better'] + c['worse'], key=lambda n: -abs(math.log(c['ratios'][n]))):
             print('  %-28s %.4f -> %.4f' % (n, base[set_name][n]['ate'], new[set_name][n]['ate']))
 

@@ -79,6 +79,24 @@ class Sets(unittest.TestCase):
             self.assertEqual(set_eval.runs_of('bonn', args), [])
 
 
+class CompareOverStreams(unittest.TestCase):
+    def test_each_stream_is_scored_against_the_same_stream_and_failures_are_counted(self):
+        base = {'a': {'ate': 0.02, 'ate_per_seed': [0.01, 0.02, 0.04], 'still': 0.05, 'lost': 0},
+                'b': {'ate': 0.02, 'ate_per_seed': [0.02, 0.02, 0.02], 'still': 0.05, 'lost': 0}}
+        new = {'a': {'ate': 0.02, 'ate_per_seed': [0.02, 0.02, 0.01], 'still': 0.05, 'lost': 0},
+               'b': {'ate': 0.02, 'ate_per_seed': [0.02, 0.9, 0.02], 'still': 0.05, 'lost': 0}}
+        c = set_eval.compare_set(base, new)
+        self.assertAlmostEqual(c['geometric_mean'], 1.0)  # the medians did not move
+        self.assertAlmostEqual(c['per_stream'][0], math.sqrt(2.0))
+        self.assertAlmostEqual(c['per_stream'][1], math.sqrt(45.0))
+        self.assertAlmostEqual(c['per_stream'][2], math.sqrt(0.25))
+        self.assertEqual(c['failed_stream_runs'], 1)
+
+    def test_runs_of_a_single_stream_have_no_per_stream_score(self):
+        c = set_eval.compare_set(runs(a=0.01), runs(a=0.02))
+        self.assertEqual(c['per_stream'], [])
+
+
 class CompareCommand(unittest.TestCase):
     def test_prints_each_set_and_the_runs_that_moved(self):
         with tempfile.TemporaryDirectory() as tmp:
