@@ -141,9 +141,14 @@ def compare_set(base, new):
                   default=0)
     per_stream = [geometric_mean(max(new[n]['ate_per_seed'][k], 1e-9) / max(base[n]['ate_per_seed'][k], 1e-9)
                                  for n in names) for k in range(streams)]
-    failures = [sum(1 for a in new[n].get('ate_per_seed', [new[n]['ate']]) if a > FAILED) for n in names]
     return {'runs': len(names), 'better': better, 'worse': worse, 'geometric_mean': geo, 'ratios': ratios,
-            'per_stream': per_stream, 'failed_stream_runs': sum(failures)}
+            'per_stream': per_stream, 'failed_stream_runs': failed_stream_runs(new, names),
+            'base_failed_stream_runs': failed_stream_runs(base, names)}
+
+
+def failed_stream_runs(runs, names):
+    """Stream-runs among `names` that end more than FAILED off."""
+    return sum(1 for n in names for a in runs[n].get('ate_per_seed', [runs[n]['ate']]) if a > FAILED)
 
 
 def geometric_mean(values):
@@ -165,7 +170,7 @@ def compare(args):
         if c['per_stream']:
             print('  per stream: %s; stream-runs above %.1f m: %d (base %d)' % (
                 ' / '.join('%.3f' % g for g in c['per_stream']), FAILED, c['failed_stream_runs'],
-                compare_set(base[set_name], base[set_name])['failed_stream_runs']))
+                c['base_failed_stream_runs']))
         for n in sorted(c['better'] + c['worse'], key=lambda n: -abs(math.log(c['ratios'][n]))):
             print('  %-28s %.4f -> %.4f' % (n, base[set_name][n]['ate'], new[set_name][n]['ate']))
 
