@@ -17,7 +17,12 @@ with Output.tracking_log=true) against a TUM ground truth:
 
   ./build/bin/gmc-rgbd-mapping config/bonn.ini $D/bonn_crowd_301_460 --out /tmp/r \\
       --set Output.map=false --set Output.tracking_log=true
-  python3 scripts/error_profile.py /tmp/r $D/bonn_crowd_301_460/groundtruth.txt [--frames]
+  ./build/bin/gmc-eval --gt $D/bonn_crowd_301_460/groundtruth.txt --est /tmp/r/trajectory_tum.txt \\
+      --gt-frame bonn --gt-out /tmp/r/groundtruth_camera.txt
+  python3 scripts/error_profile.py /tmp/r /tmp/r/groundtruth_camera.txt [--frames]
+
+Bonn's groundtruth.txt is the marker body's; gmc-eval writes the camera's (TUM's is the
+camera's already).
 
 With --frames it first prints one line per pose (with tracking.csv): the tracking state,
 keyframe, matches (static / dynamic / refinement inliers), landmarks with static evidence

@@ -131,7 +131,7 @@ def median_run(figures):
 def compare_set(base, new):
     """Counts and geometric mean ratio new / base over the runs in both: the doc's score."""
     names = [n for n in base if n in new]
-    ratios = {n: max(new[n]['ate'], 1e-9) / max(base[n]['ate'], 1e-9) for n in names}
+    ratios = {n: ratio(new[n]['ate'], base[n]['ate']) for n in names}
     better = [n for n in names if ratios[n] < 1 - MOVED]
     worse = [n for n in names if ratios[n] > 1 + MOVED]
     geo = geometric_mean(ratios.values())
@@ -139,11 +139,16 @@ def compare_set(base, new):
     # average over streams shows one stream above 1.
     streams = min((len(r.get('ate_per_seed', [])) for r in [base[n] for n in names] + [new[n] for n in names]),
                   default=0)
-    per_stream = [geometric_mean(max(new[n]['ate_per_seed'][k], 1e-9) / max(base[n]['ate_per_seed'][k], 1e-9)
-                                 for n in names) for k in range(streams)]
+    per_stream = [geometric_mean(ratio(new[n]['ate_per_seed'][k], base[n]['ate_per_seed'][k]) for n in names)
+                  for k in range(streams)]
     return {'runs': len(names), 'better': better, 'worse': worse, 'geometric_mean': geo, 'ratios': ratios,
             'per_stream': per_stream, 'failed_stream_runs': failed_stream_runs(new, names),
             'base_failed_stream_runs': failed_stream_runs(base, names)}
+
+
+def ratio(new_ate, base_ate):
+    """new / base, both floored so that a zero ATE cannot divide by zero."""
+    return max(new_ate, 1e-9) / max(base_ate, 1e-9)
 
 
 def failed_stream_runs(runs, names):
