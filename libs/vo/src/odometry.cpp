@@ -65,6 +65,7 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
   background_.reseed(seed);
   rejoin_.reseed(seed);
   consensus_.reseed(seed);
+  smoother_ = TrajectorySmoother(config.odometry.smoothing_frames);
 }
 
 Isometry RgbdOdometry::predictPose() const {
@@ -160,6 +161,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   out.map_landmarks = static_cast<int>(map_.numAlive());
   out.times.window = msSince(t0);
   bridgeLostFrames(out);
+  smoothTrajectory(out);
 
   previous_ = std::move(cur);
   previous_memory_ = memory_;
@@ -295,6 +297,18 @@ void RgbdOdometry::bridgeLostFrames(FrameTracking& out) {
   lost_frames_.clear();
   last_tracked_ = current;
   records_.add(current);
+}
+
+void RgbdOdometry::smoothTrajectory(FrameTracking& out) {
+  // Revised otherwise (bridged lost frames, a start consensus, a rejoin), the poses of the
+  // run so far are not the ones given out: a new run starts with this frame.
+  if (out.state != TrackingState::Tracking || !out.revised.empty() || out.rejoined || out.start_consensus)
+    smoother_.reset();
+  if (out.state != TrackingState::Tracking) return;
+  if (const auto smoothed = smoother_.add({frame_number_, out.stamp, out.T_world_camera})) {
+    out.revised.push_back(*smoothed);
+    records_.revise(*smoothed);
+  }
 }
 
 void RgbdOdometry::countRefound(FrameTracking& out) const {

@@ -17,6 +17,7 @@
 #include "gmc/vo/map_rejoin.h"
 #include "gmc/vo/pose_refinement.h"
 #include "gmc/vo/start_consensus.h"
+#include "gmc/vo/trajectory_smoother.h"
 #include "gmc/vo/window_optimizer.h"
 
 namespace gmc::vo {
@@ -44,6 +45,9 @@ struct OdometryOptions {
   int random_seed = 0;                  ///< 0: the built-in RANSAC sampling streams; another
                                         ///< value: other, equally valid streams (how much a
                                         ///< figure owes to chance: doc/odometry.md)
+  int smoothing_frames = 4;             ///< the trajectory's poses: a quadratic fit over this
+                                        ///< many tracked frames on each side, given out as
+                                        ///< revisions that many frames later (0 = live poses)
   double young_map_lost_still_share = 0.2;  ///< a lost frame stands still instead of
                                         ///< extrapolating the velocity when the map holds no
                                         ///< static evidence yet and at least this share of the
@@ -68,6 +72,9 @@ struct OdometryOptions {
       "when tracking resumes on the same map, revise the lost frames' poses along the path between the tracked ones");
     v("random_seed", random_seed, 0, 1000000000,
       "0 = the built-in RANSAC sampling streams; another value gives other, equally valid ones");
+    v("smoothing_frames", smoothing_frames, 0, 100,
+      "tracked frames on each side of a pose whose quadratic fit replaces it in the trajectory, that many frames "
+      "later (0 = the live poses)");
     v("young_map_lost_still_share", young_map_lost_still_share, 0.0, 2.0,
       "lost frames in a map without static evidence stand still when this share of the last tracked "
       "frame's labelled matches were dynamic (0 = always, above 1 = never)");
@@ -184,6 +191,8 @@ class RgbdOdometry {
 
   void initialize(features::FeatureSet&& cur, double stamp, FrameTracking& out);
   void bridgeLostFrames(FrameTracking& out);
+  /// The pose smoothing_frames back, fitted over the tracked frames around it (a revision).
+  void smoothTrajectory(FrameTracking& out);
   void bridge(const std::vector<std::pair<long, double>>& lost, const RevisedPose& from, const RevisedPose& to,
               FrameTracking& out);
   /// A young map's frames judged together; taken, it revises their poses and the
@@ -252,6 +261,7 @@ class RgbdOdometry {
   long frame_number_ = 0;                                  ///< frames processed
   std::vector<std::pair<long, double>> lost_frames_;       ///< the lost frames since (number, stamp), same map
   MapRecords records_;                                      ///< frames of the maps that may be rejoined
+  TrajectorySmoother smoother_;                             ///< the trajectory's fixed-lag smoothing
   int map_id_ = 0;                                          ///< the current map (0: the first; one more per re-anchor)
   bool map_restarted_ = false;                              ///< this frame's re-anchor started a new map
   Isometry velocity_ = Isometry::Identity();  ///< last frame-to-frame motion

@@ -1,0 +1,56 @@
+#include "gmc/vo/trajectory_smoother.h"
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+
+namespace gmc::vo {
+
+namespace {
+
+/// Rotation vector (axis times angle) of a rotation matrix.
+Eigen::Vector3d logSO3(const Eigen::Matrix3d& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.angle() * aa.axis();
+}
+
+Eigen::Matrix3d expSO3(const Eigen::Vector3d& w) {
+  const double angle = w.norm();
+  if (angle < 1e-12) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+}
+
+}  // namespace
+
+Isometry smoothedMiddlePose(const std::deque<RevisedPose>& window) {
+  const size_t n = window.size(), middle = n / 2;
+  const RevisedPose& centre = window[middle];
+  // Rows [1, dt, dt^2] around the middle stamp: the fit's value at dt = 0 is the
+  // first coefficient. Time in frames of 1/30 s keeps the columns alike in scale.
+  Eigen::MatrixXd A(static_cast<Eigen::Index>(n), 3);
+  Eigen::MatrixXd values(static_cast<Eigen::Index>(n), 6);
+  const Eigen::Matrix3d R_centre_inv = centre.T_world_camera.linear().transpose();
+  for (size_t i = 0; i < n; ++i) {
+    const auto row = static_cast<Eigen::Index>(i);
+    const double dt = (window[i].stamp - centre.stamp) * 30.0;
+    A.row(row) << 1.0, dt, dt * dt;
+    values.block<1, 3>(row, 0) = window[i].T_world_camera.translation().transpose();
+    values.block<1, 3>(row, 3) = logSO3(R_centre_inv * window[i].T_world_camera.linear()).transpose();
+  }
+  const Eigen::MatrixXd coefficients = A.colPivHouseholderQr().solve(values);
+  Isometry out = Isometry::Identity();
+  out.translation() = coefficients.block<1, 3>(0, 0).transpose();
+  out.linear() = centre.T_world_camera.linear() * expSO3(coefficients.block<1, 3>(0, 3).transpose());
+  return out;
+}
+
+std::optional<RevisedPose> TrajectorySmoother::add(const RevisedPose& frame) {
+  if (half_window_ <= 0) return std::nullopt;
+  window_.push_back(frame);
+  const size_t full = static_cast<size_t>(2 * half_window_ + 1);
+  if (window_.size() > full) window_.pop_front();
+  if (window_.size() < full) return std::nullopt;
+  const RevisedPose& middle = window_[static_cast<size_t>(half_window_)];
+  return RevisedPose{middle.frame_number, middle.stamp, smoothedMiddlePose(window_)};
+}
+
+}  // namespace gmc::vo
