@@ -65,7 +65,7 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
   background_.reseed(seed);
   rejoin_.reseed(seed);
   consensus_.reseed(seed);
-  smoother_ = TrajectorySmoother(config.odometry.smoothing_frames);
+  smoother_ = TrajectorySmoother(config.odometry.smoothing_frames, config.odometry.smoothing_break);
 }
 
 Isometry RgbdOdometry::predictPose() const {

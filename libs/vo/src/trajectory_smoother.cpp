@@ -43,8 +43,22 @@ Isometry smoothedMiddlePose(const std::deque<RevisedPose>& window) {
   return out;
 }
 
+bool TrajectorySmoother::continuesRun(const RevisedPose& frame) const {
+  if (window_.empty()) return true;
+  const Isometry& last = window_.back().T_world_camera;
+  const Isometry before = window_.size() > 1 ? window_[window_.size() - 2].T_world_camera : last;
+  const Eigen::Vector3d step = frame.T_world_camera.translation() - last.translation();
+  const Eigen::Vector3d step_before = last.translation() - before.translation();
+  // Rotation steps in the camera's own frame: the change between the two is a rotation.
+  const Eigen::Matrix3d turn = last.linear().transpose() * frame.T_world_camera.linear();
+  const Eigen::Matrix3d turn_before = before.linear().transpose() * last.linear();
+  const double turn_change = Eigen::AngleAxisd(turn_before.transpose() * turn).angle();
+  return (step - step_before).norm() <= max_step_change_ && turn_change <= max_step_change_;
+}
+
 std::optional<RevisedPose> TrajectorySmoother::add(const RevisedPose& frame) {
   if (half_window_ <= 0) return std::nullopt;
+  if (!continuesRun(frame)) window_.clear();
   window_.push_back(frame);
   const size_t full = static_cast<size_t>(2 * half_window_ + 1);
   if (window_.size() > full) window_.pop_front();

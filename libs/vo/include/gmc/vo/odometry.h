@@ -48,6 +48,9 @@ struct OdometryOptions {
   int smoothing_frames = 4;             ///< the trajectory's poses: a quadratic fit over this
                                         ///< many tracked frames on each side, given out as
                                         ///< revisions that many frames later (0 = live poses)
+  double smoothing_break = 0.1;         ///< m (and rad): a step that differs from the one
+                                        ///< before by more than this starts a new smoothing
+                                        ///< run (a jump is not smoothed over)
   double young_map_lost_still_share = 0.2;  ///< a lost frame stands still instead of
                                         ///< extrapolating the velocity when the map holds no
                                         ///< static evidence yet and at least this share of the
@@ -75,6 +78,8 @@ struct OdometryOptions {
     v("smoothing_frames", smoothing_frames, 0, 100,
       "tracked frames on each side of a pose whose quadratic fit replaces it in the trajectory, that many frames "
       "later (0 = the live poses)");
+    v("smoothing_break", smoothing_break, 0.0, 100.0,
+      "m (and rad): a frame whose step differs from the step before by more than this starts a new smoothing run");
     v("young_map_lost_still_share", young_map_lost_still_share, 0.0, 2.0,
       "lost frames in a map without static evidence stand still when this share of the last tracked "
       "frame's labelled matches were dynamic (0 = always, above 1 = never)");
