@@ -60,12 +60,12 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
       rejoin_(config.rejoin, config.refinement,
               InPlaceThreshold{config.background.inlier_base, config.background.inlier_per_m2}),
       consensus_(config.start_consensus),
-      gmc_previous_(config.gmc) {
+      gmc_previous_(config.gmc),
+      smoother_(config.odometry.smoothing_frames, config.odometry.smoothing_break) {
   const auto seed = static_cast<std::uint64_t>(config.odometry.random_seed);
   background_.reseed(seed);
   rejoin_.reseed(seed);
   consensus_.reseed(seed);
-  smoother_ = TrajectorySmoother(config.odometry.smoothing_frames, config.odometry.smoothing_break);
 }
 
 Isometry RgbdOdometry::predictPose() const {

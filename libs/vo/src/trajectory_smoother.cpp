@@ -1,22 +1,20 @@
 #include "gmc/vo/trajectory_smoother.h"
 
+#include <mrpt/poses/Lie/SO.h>
+
 #include <Eigen/Dense>
-#include <Eigen/Geometry>
 
 namespace gmc::vo {
 
 namespace {
 
-/// Rotation vector (axis times angle) of a rotation matrix.
+// The SO(3) exponential and logarithm of MRPT, as the frame refinement's expSE3 uses.
 Eigen::Vector3d logSO3(const Eigen::Matrix3d& R) {
-  const Eigen::AngleAxisd aa(R);
-  return aa.angle() * aa.axis();
+  return mrpt::poses::Lie::SO<3>::log(mrpt::math::CMatrixDouble33(R)).asEigen();
 }
 
 Eigen::Matrix3d expSO3(const Eigen::Vector3d& w) {
-  const double angle = w.norm();
-  if (angle < 1e-12) return Eigen::Matrix3d::Identity();
-  return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+  return mrpt::poses::Lie::SO<3>::exp(mrpt::math::CVectorFixedDouble<3>(w)).asEigen();
 }
 
 }  // namespace
