@@ -110,10 +110,6 @@ TEST(TrajectorySmoother, ARunStartsAgainAfterAReset) {
   EXPECT_EQ(revised->frame_number, 12);
 }
 
-}  // namespace
-
-namespace {
-
 // A jump the tracking followed (a replayed input, a relocalised camera) is not smoothed
 // over: the frames on either side keep their own motion.
 TEST(TrajectorySmoother, AJumpStartsANewRun) {
