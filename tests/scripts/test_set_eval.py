@@ -91,6 +91,10 @@ class CompareOverStreams(unittest.TestCase):
         self.assertAlmostEqual(c['per_stream'][1], math.sqrt(45.0))
         self.assertAlmostEqual(c['per_stream'][2], math.sqrt(0.25))
         self.assertEqual(c['failed_stream_runs'], 1)
+        # Without stream-runs that fail in either file: b's stream 1 (0.9 m) is left out.
+        self.assertAlmostEqual(c['per_stream_settled'][0], math.sqrt(2.0))
+        self.assertAlmostEqual(c['per_stream_settled'][1], 1.0)
+        self.assertAlmostEqual(c['per_stream_settled'][2], math.sqrt(0.25))
 
     def test_runs_of_a_single_stream_have_no_per_stream_score(self):
         c = set_eval.compare_set(runs(a=0.01), runs(a=0.02))
