@@ -27,9 +27,9 @@ them are kept in the file): a null change moves a quarter of single runs by more
 
 "compare" prints, per set, the runs in both files, how many are more than 10 % better
 or worse, the geometric mean of the ratios new / base, with several streams that mean
-per stream (stream k against stream k), again without the stream-runs above 0.5 m in
+per stream (stream k against stream k) and again without the stream-runs above 0.5 m in
 either file (a run that flips between two outcomes a hundred times apart sways a whole
-stream's mean), and the stream-runs above 0.5 m, and the runs that moved.
+stream's mean), the count of stream-runs above 0.5 m, and the runs that moved.
 """
 import argparse
 import json
@@ -149,7 +149,8 @@ def compare_set(base, new):
                               if max(new[n]['ate_per_seed'][k], base[n]['ate_per_seed'][k]) <= FAILED)
                for k in range(streams)]
     return {'runs': len(names), 'better': better, 'worse': worse, 'geometric_mean': geo, 'ratios': ratios,
-            'per_stream': per_stream, 'per_stream_settled': settled, 'failed_stream_runs': failed_stream_runs(new, names),
+            'per_stream': per_stream, 'per_stream_settled': settled,
+            'failed_stream_runs': failed_stream_runs(new, names),
             'base_failed_stream_runs': failed_stream_runs(base, names)}
 
 
