@@ -140,14 +140,12 @@ def compare_set(base, new):
     # average over streams shows one stream above 1.
     streams = min((len(r.get('ate_per_seed', [])) for r in [base[n] for n in names] + [new[n] for n in names]),
                   default=0)
-    per_stream = [geometric_mean(ratio(new[n]['ate_per_seed'][k], base[n]['ate_per_seed'][k]) for n in names)
-                  for k in range(streams)]
+    pairs = [[(new[n]['ate_per_seed'][k], base[n]['ate_per_seed'][k]) for n in names] for k in range(streams)]
+    per_stream = [geometric_mean(ratio(a, b) for a, b in stream) for stream in pairs]
     # The same without the stream-runs that end more than FAILED off in either file: a
     # run that flips between following the room and following a group (`synchronous`,
     # 0.01 or 1.19 m) moves one stream's mean by 20 % on its own (twenty-seventh round).
-    settled = [geometric_mean(ratio(new[n]['ate_per_seed'][k], base[n]['ate_per_seed'][k]) for n in names
-                              if max(new[n]['ate_per_seed'][k], base[n]['ate_per_seed'][k]) <= FAILED)
-               for k in range(streams)]
+    settled = [geometric_mean(ratio(a, b) for a, b in stream if max(a, b) <= FAILED) for stream in pairs]
     return {'runs': len(names), 'better': better, 'worse': worse, 'geometric_mean': geo, 'ratios': ratios,
             'per_stream': per_stream, 'per_stream_settled': settled,
             'failed_stream_runs': failed_stream_runs(new, names),
