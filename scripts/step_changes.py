@@ -22,6 +22,9 @@ import math
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from window_eval import read_tum  # noqa: E402
+
 
 def qmul(a, b):
     x1, y1, z1, w1 = a
@@ -55,16 +58,9 @@ def step(a, b):
     return t, rotation_vector_deg(qmul(qi, b[1]))
 
 
-def read_tum(path):
-    poses = []
-    with open(path) as f:
-        for line in f:
-            parts = line.split()
-            if not parts or parts[0].startswith('#'):
-                continue
-            v = [float(x) for x in parts[:8]]
-            poses.append((v[0], (v[1], v[2], v[3]), (v[4], v[5], v[6], v[7])))
-    return poses
+def read_poses(path):
+    """A TUM trajectory as (stamp, position, quaternion xyzw)."""
+    return [(v[0], tuple(v[1:4]), tuple(v[4:8])) for v in read_tum(path)]
 
 
 def read_tracked(run):
@@ -146,7 +142,7 @@ def main():
     for path in (os.path.join(args.run, 'tracking.csv'), args.gt):
         if not os.path.isfile(path):
             sys.exit('step_changes.py: %s: no such file' % path)
-    pairs = step_pairs(read_tracked(args.run), read_tum(args.gt))
+    pairs = step_pairs(read_tracked(args.run), read_poses(args.gt))
     if len(pairs) < 3:
         sys.exit('step_changes.py: %s: fewer than 3 consecutive tracked frames with ground truth' % args.run)
     print('%d consecutive tracked steps; rms change of the step from one frame to the next' % len(pairs))
