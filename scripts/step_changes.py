@@ -7,7 +7,9 @@ per axis of the camera frame, the rms change of the step (translation in mm, rot
 vector in deg) between consecutive tracked frames, for the estimate (tracking.csv's live
 poses) and for the ground truth at the same stamps, and the correlation of the two
 (doc/odometry.md, twenty-seventh round: Bonn's true step changes by 0.3-0.4 mm, the
-estimate's by 8-20 mm).
+estimate's by 8-20 mm). For the ground truth it also prints the lag-1 autocorrelation
+of the changes and an upper bound of their part that is not the motion capture's white
+pose noise (twenty-eighth round: Bonn's rotation changes are that noise).
 
   gmc-rgbd-mapping config/bonn.ini DATA --out R --set Output.tracking_log=true
   gmc-eval --gt DATA/groundtruth.txt --est R/trajectory_tum.txt --gt-frame bonn --gt-out R/gtc.txt
@@ -119,9 +121,27 @@ def correlation(a, b):
     return sum((x - ma) * (y - mb) for x, y in zip(a, b)) / math.sqrt(va * vb) if va > 0 and vb > 0 else float('nan')
 
 
+def smooth_part_at_most(changes):
+    """The rms of the part of a step-change series that is not white pose noise, at most.
+
+    Motion capture adds white noise n of variance s2 to every pose; a step change then
+    carries n[i+2] - 2 n[i+1] + n[i]: variance 6 s2 and lag-1 covariance -4 s2 (a lag-1
+    autocorrelation of -2/3 for pure noise). A hand-held camera's own step changes vary
+    smoothly (lag-1 covariance >= 0 at 30 Hz), so s2 >= -cov1 / 4 and the camera's part
+    of the variance is at most var - 6 s2 <= var + 1.5 cov1."""
+    n = len(changes)
+    if n < 3:
+        return float('nan')
+    mean = sum(changes) / n
+    var = sum((c - mean) ** 2 for c in changes) / n
+    cov1 = sum((a - mean) * (b - mean) for a, b in zip(changes, changes[1:])) / (n - 1)
+    return math.sqrt(max(0.0, var + 1.5 * min(0.0, cov1)))
+
+
 def summary(pairs):
     """Per part (translation, rotation) and axis: rms step change of the estimate and of the
-    truth, and the correlation of the two changes. Only changes between consecutive pairs."""
+    truth, the correlation of the two changes, the truth's lag-1 autocorrelation and its
+    part that is not white pose noise (at most). Only changes between consecutive pairs."""
     rows = []
     for part, unit in ((0, 'mm'), (1, 'deg')):
         for axis in range(3):
@@ -130,7 +150,7 @@ def summary(pairs):
             d_est = [b - a for a, b in zip(est, est[1:])]
             d_true = [b - a for a, b in zip(true, true[1:])]
             rows.append(('translation' if part == 0 else 'rotation', 'xyz'[axis], unit, rms(d_est), rms(d_true),
-                         correlation(d_est, d_true)))
+                         correlation(d_est, d_true), correlation(d_true, d_true[1:]), smooth_part_at_most(d_true)))
     return rows
 
 
@@ -146,9 +166,11 @@ def main():
     if len(pairs) < 3:
         sys.exit('step_changes.py: %s: fewer than 3 consecutive tracked frames with ground truth' % args.run)
     print('%d consecutive tracked steps; rms change of the step from one frame to the next' % len(pairs))
-    for part, axis, unit, est, true, corr in summary(pairs):
-        print('%-11s %s: estimate %7.3f %s, ground truth %7.3f %s, correlation %5.2f' % (part, axis, est, unit, true,
-                                                                                         unit, corr))
+    print('(ground truth: lag-1 autocorrelation of its changes, -0.67 for white pose noise alone, and the rms of '
+          'its changes without that noise, at most)')
+    for part, axis, unit, est, true, corr, lag1, smooth in summary(pairs):
+        print('%-11s %s: estimate %7.3f %s, ground truth %7.3f %s, correlation %5.2f, lag-1 %5.2f, without noise '
+              '<= %7.3f %s' % (part, axis, est, unit, true, unit, corr, lag1, smooth, unit))
 
 
 if __name__ == '__main__':
