@@ -123,6 +123,32 @@ TEST(LandmarkMap, ALandmarkOnAWalkerThatMovesBecomesSuspectAndStaysSo) {
   EXPECT_EQ(map.evidence(7, stamp), Evidence::Static);
 }
 
+// map_matches.csv judges a match by the observation that placed its landmark: the
+// creating one, then the one a moving landmark was last placed by.
+TEST(LandmarkMap, ALandmarkRemembersTheObservationThatPlacedIt) {
+  LandmarkMap map;
+  Isometry T_world_camera = Isometry::Identity();
+  T_world_camera.translation() = Eigen::Vector3d(1, 0, 0);
+  const auto f = wallFeatures(4);
+  map.addFeatures(f, std::vector<std::uint8_t>(4, 0), std::vector<MotionLabel>(4, MotionLabel::Undecided),
+                  T_world_camera, 2.0, 0);
+  for (int id = 0; id < 4; ++id) {
+    EXPECT_TRUE(map[id].origin_point.isApprox(f.points[static_cast<size_t>(id)]));
+    EXPECT_DOUBLE_EQ(map[id].origin_stamp, 2.0);
+  }
+  // Seen in place: the origin stays. Labelled dynamic 10 cm away: placed there now.
+  map.observe(observeAll(map, T_world_camera, {}, Eigen::Vector3d::Zero(), MotionLabel::Static), {0, 1, 2, 3},
+              T_world_camera, 2.1, {});
+  EXPECT_DOUBLE_EQ(map[2].origin_stamp, 2.0);
+  const auto moved = observeAll(map, T_world_camera, {2}, Eigen::Vector3d(0.1, 0, 0), MotionLabel::Dynamic);
+  map.observe(moved, {0, 1, 2, 3}, T_world_camera, 2.2, {});
+  map.observe(observeAll(map, T_world_camera, {2}, Eigen::Vector3d(0.1, 0, 0), MotionLabel::Dynamic), {0, 1, 2, 3},
+              T_world_camera, 2.3, {});
+  EXPECT_DOUBLE_EQ(map[2].origin_stamp, 2.3);
+  EXPECT_TRUE((T_world_camera * map[2].origin_point).isApprox(map[2].position));
+  EXPECT_DOUBLE_EQ(map[1].origin_stamp, 2.0);
+}
+
 TEST(LandmarkMap, ALandmarkDisplacedTwiceWithoutAMotionLabelIsDropped) {
   // On a static scene this is a look-alike corner matched in the landmark's place: the
   // same wrong match recurs. Following it would move the landmark onto another point.

@@ -83,6 +83,8 @@ std::vector<std::pair<int, int>> LandmarkMap::addFeatures(const features::Featur
     l.evidence_since = l.last_seen_in_place = stamp;
     l.hits_in_place = 1;
     l.keyframe = keyframe;
+    l.origin_point = features.points[i];
+    l.origin_stamp = stamp;
     if (labels[i] == MotionLabel::Dynamic) l.suspect_until = stamp + options_.suspect_seconds;
     added.emplace_back(static_cast<int>(i), static_cast<int>(landmarks_.size()));
     landmarks_.push_back(l);
@@ -108,6 +110,8 @@ void LandmarkMap::observe(const std::vector<LandmarkObservation>& observations,
       // renews the suspicion.
       if (!in_band) l.suspect_until = stamp + options_.suspect_seconds;
       l.position = seen;
+      l.origin_point = o.point_cur;
+      l.origin_stamp = stamp;
       l.evidence_since = l.last_seen_in_place = stamp;
       l.hits_in_place = 1;
       continue;
@@ -143,6 +147,8 @@ void LandmarkMap::observe(const std::vector<LandmarkObservation>& observations,
     }
     // Moved, or persistently somewhere else: its evidence was for a place it has left.
     l.position = seen;
+    l.origin_point = o.point_cur;
+    l.origin_stamp = stamp;
     l.evidence_since = l.last_seen_in_place = stamp;
     l.hits_in_place = 1;
     l.moved_streak = 0;

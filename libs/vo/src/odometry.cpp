@@ -445,6 +445,15 @@ RefinementResult RgbdOdometry::refineOnBackground(const Isometry& T_world_guess,
                    track_.trust.weight[k]});
     max_weight = std::max(max_weight, track_.trust.weight[k]);
   }
+  out.map_matches.clear();
+  out.map_matches.reserve(track_.motion.size());
+  for (size_t k = 0; k < track_.motion.size(); ++k) {
+    const int keypoint = track_.cur_index[k];
+    const Landmark& l = map_[track_.landmark[k]];
+    out.map_matches.push_back({keypoint, track_.motion[k].point_cur, l.origin_point, l.origin_stamp,
+                               choice_.gmc.labels[k], track_.trust.established[k] != 0,
+                               out.keypoint_in_pose[static_cast<size_t>(keypoint)] != 0});
+  }
   // Relative trust: young landmarks count less only next to landmarks with evidence.
   for (auto& o : obs) o.weight /= max_weight;
   return refinePose(obs, T_world_guess.inverse(), camera, config_.refinement, motionPrior(T_world_pred, frame_gap));

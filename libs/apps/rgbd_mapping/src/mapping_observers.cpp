@@ -256,4 +256,25 @@ void TrackingLog::onEnd(PipelineReport&, const mapping::StaticMapBuilder*) {
   datasets::writeTextAtomic((fs::path(dir_) / "tracking.csv").string(), csv_.str());
 }
 
+MatchLog::MatchLog(std::string out_dir) : dir_(std::move(out_dir)) {
+  csv_ << "frame,stamp,state,u,v,x,y,z,origin_x,origin_y,origin_z,origin_stamp,label,established,in_pose\n"
+       << std::fixed << std::setprecision(6);
+}
+
+void MatchLog::onFrame(const FrameEvent& e) {
+  const auto& t = e.tracking;
+  for (const auto& m : t.map_matches) {
+    const auto& kp = t.keypoints[static_cast<size_t>(m.keypoint)];
+    const char label = m.label == MotionLabel::Static ? 'S' : m.label == MotionLabel::Dynamic ? 'D' : 'U';
+    csv_ << e.report.frames << "," << t.stamp << "," << vo::toString(t.state) << "," << kp.x << "," << kp.y << ","
+         << m.point_cur.x() << "," << m.point_cur.y() << "," << m.point_cur.z() << "," << m.landmark_origin.x() << ","
+         << m.landmark_origin.y() << "," << m.landmark_origin.z() << "," << m.landmark_origin_stamp << "," << label
+         << "," << m.established << "," << m.in_pose << "\n";
+  }
+}
+
+void MatchLog::onEnd(PipelineReport&, const mapping::StaticMapBuilder*) {
+  datasets::writeTextAtomic((fs::path(dir_) / "map_matches.csv").string(), csv_.str());
+}
+
 }  // namespace gmc::apps

@@ -192,6 +192,7 @@ MappingRun::MappingRun(const PipelineConfig& config, filters::FilterChain chain,
   if (output.memory_every > 0)
     observers_.push_back(std::make_unique<MemorySampler>(out_dir, output.memory_every, map_stage_.get()));
   if (output.tracking_log) observers_.push_back(std::make_unique<TrackingLog>(out_dir));
+  if (output.match_log) observers_.push_back(std::make_unique<MatchLog>(out_dir));
   if (config.playback.progress && isatty(fileno(stderr)))
     observers_.push_back(std::make_unique<ProgressLine>(reader_.sizeHint(), start_, realtime_));
 }

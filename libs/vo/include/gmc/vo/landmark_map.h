@@ -64,6 +64,10 @@ struct Landmark {
   int moved_streak = 0;          ///< consecutive observations out of place
   int visible = 0, found = 0;    ///< projected into a tracked frame / matched there
   int keyframe = -1;             ///< keyframe that created it
+  /// The observation that placed it (camera frame) and its stamp: a ground truth judges
+  /// its matches with these, independent of the estimated poses (map_matches.csv).
+  Eigen::Vector3d origin_point = Eigen::Vector3d::Zero();
+  double origin_stamp = 0;
   bool alive = true;
 };
 

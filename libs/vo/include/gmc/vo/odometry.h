@@ -116,6 +116,19 @@ struct StageTimes {
 enum class TrackingState { Initialized, Tracking, Lost, Reanchored };
 const char* toString(TrackingState s);
 
+/// One match of a frame against the landmark map, with what a ground truth needs to
+/// judge it: the matched point now and the observation that placed the landmark (both in
+/// their cameras' frames, so the estimated poses play no part; scripts/match_truth.py).
+struct MapMatchRecord {
+  int keypoint = -1;                                       ///< index into FrameTracking::keypoints
+  Eigen::Vector3d point_cur = Eigen::Vector3d::Zero();      ///< current camera frame (m)
+  Eigen::Vector3d landmark_origin = Eigen::Vector3d::Zero();  ///< Landmark::origin_point
+  double landmark_origin_stamp = 0;                         ///< Landmark::origin_stamp
+  MotionLabel label = MotionLabel::Undecided;               ///< GMC's label for the pose
+  bool established = false;                                 ///< the landmark has static evidence
+  bool in_pose = false;                                     ///< went into the pose refinement
+};
+
 struct FrameTracking {
   double stamp = 0;
   long frame_number = 0;                ///< 1 for the first frame processed, then one more per frame
@@ -155,6 +168,8 @@ struct FrameTracking {
   /// 1 where the keypoint's observation went into the pose refinement (static, trusted);
   /// with ground-truth masks it tells how much of the pose rests on people.
   std::vector<std::uint8_t> keypoint_in_pose;
+  /// The frame's matches against the map (with depth), as the pose step judged them.
+  std::vector<MapMatchRecord> map_matches;
   GmcResult gmc;                        ///< cells and clusters of this frame (vs the map)
   GmcResult gmc_previous;               ///< the same against the previous frame (masks)
 

@@ -130,4 +130,19 @@ class TrackingLog : public FrameObserver {
   std::ostringstream csv_;
 };
 
+/// map_matches.csv: one row per match of a frame against the landmark map, with the
+/// matched point and the observation that placed the landmark (each in its camera's
+/// frame), GMC's label and whether it went into the pose: scripts/match_truth.py judges
+/// them against a ground truth trajectory.
+class MatchLog : public FrameObserver {
+ public:
+  explicit MatchLog(std::string out_dir);
+  void onFrame(const FrameEvent& e) override;
+  void onEnd(PipelineReport&, const mapping::StaticMapBuilder*) override;
+
+ private:
+  std::string dir_;
+  std::ostringstream csv_;
+};
+
 }  // namespace gmc::apps

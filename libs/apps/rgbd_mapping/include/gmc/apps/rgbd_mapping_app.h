@@ -78,6 +78,7 @@ struct OutputOptions {
   int overlay_every = 0;           ///< write overlays/<stamp>.png every N frames (0 = never)
   int memory_every = 0;            ///< memory.csv row (resident memory, map) every N frames
   bool tracking_log = false;       ///< tracking.csv: every frame's state, evidence and pose
+  bool match_log = false;          ///< map_matches.csv: every frame's matches against the map
 
   template <class V>
   void visit(V& v) {
@@ -88,6 +89,9 @@ struct OutputOptions {
       "memory.csv row (frame, resident MB, map nodes) every N frames (0 = none)");
     v("tracking_log", tracking_log,
       "write tracking.csv: per frame state, lost reason, matches, static evidence, pose");
+    v("match_log", match_log,
+      "write map_matches.csv: per frame every match against the landmark map, with the observation that placed "
+      "the landmark (for scripts/match_truth.py)");
   }
 };
 

@@ -1,0 +1,153 @@
+#!/usr/bin/env python3
+"""Which of a run's matches against the landmark map are true, judged by a ground truth.
+
+gmc-rgbd-mapping with Output.match_log=true writes map_matches.csv: per frame, every
+match against the landmark map (with depth), with the matched point in the current
+camera's frame and the observation that placed the landmark (its point in that camera's
+frame and its stamp), GMC's label and whether it went into the pose. A match is *true*
+when both are the same point of the world: the ground-truth poses at the two stamps take
+them to world points within --tolerance (3 cm + 1 cm * z^2, z the current depth: depth
+noise of both readings and the ground truth's own error). The estimated poses play no
+part, so a run that drifted is judged as fairly as one that did not. A point on a person
+who stood still between the two stamps is true too: it is what the pose may rest on.
+
+Prints, per tracking state (tracking, lost, ...), the frames, the matches, the true ones
+(their share and the median per frame), and of the matches in the pose the true share
+(the pose's support precision); with --frames first one line per frame. Where the lost
+frames have almost no true match, the room in view is not in the map
+(doc/odometry.md, twenty-ninth round); where the pose's support is mostly false, the
+pose follows something that moves.
+
+  gmc-rgbd-mapping config/default.ini out/seeds/crowd_start_seed1_300 --out R \\
+      --set Output.map=false --set Output.match_log=true
+  scripts/match_truth.py R out/seeds/crowd_start_seed1_300/groundtruth.txt
+
+The ground truth must be the camera's (Bonn: gmc-eval --gt-frame bonn --gt-out; TUM's
+and the generated sequences' already are) and must cover the stamps; matches whose
+stamps it does not cover are counted apart.
+"""
+import argparse
+import csv
+import math
+import os
+import statistics
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from step_changes import interpolate, read_poses, rotate  # noqa: E402
+
+
+def world_point(pose, point):
+    position, q = pose
+    r = rotate(q, point)
+    return tuple(r[k] + position[k] for k in range(3))
+
+
+def judge(rows, gt, base, per_m2):
+    """Per row: True / False (the two observations are / are not one world point), or
+    None when the ground truth does not cover one of the two stamps."""
+    stamps = [g[0] for g in gt]
+    cache = {}
+
+    def pose_at(t):
+        if t not in cache:
+            cache[t] = interpolate(gt, stamps, t)
+        return cache[t]
+
+    verdicts = []
+    for r in rows:
+        now, then = pose_at(r['stamp']), pose_at(r['origin_stamp'])
+        if now is None or then is None:
+            verdicts.append(None)
+            continue
+        z = r['point'][2]
+        distance = math.dist(world_point(now, r['point']), world_point(then, r['origin']))
+        verdicts.append(distance <= base + per_m2 * z * z)
+    return verdicts
+
+
+def read_matches(path):
+    rows = []
+    with open(path) as f:
+        for r in csv.DictReader(f):
+            rows.append({'frame': int(r['frame']), 'stamp': float(r['stamp']), 'state': r['state'],
+                         'point': (float(r['x']), float(r['y']), float(r['z'])),
+                         'origin': (float(r['origin_x']), float(r['origin_y']), float(r['origin_z'])),
+                         'origin_stamp': float(r['origin_stamp']), 'label': r['label'],
+                         'in_pose': r['in_pose'] == '1'})
+    return rows
+
+
+def per_frame(rows, verdicts):
+    """frame -> [state, matches, true, in pose, true in pose, uncovered]."""
+    frames = {}
+    for r, v in zip(rows, verdicts):
+        f = frames.setdefault(r['frame'], [r['state'], 0, 0, 0, 0, 0])
+        if v is None:
+            f[5] += 1
+            continue
+        f[1] += 1
+        f[2] += v
+        f[3] += r['in_pose']
+        f[4] += v and r['in_pose']
+    return frames
+
+
+def summary(frames):
+    """Per state: (frames, matches, true, median true per frame, in pose, true in pose)."""
+    out = {}
+    for state, matches, true, in_pose, true_in_pose, _ in frames.values():
+        s = out.setdefault(state, [0, 0, 0, [], 0, 0])
+        s[0] += 1
+        s[1] += matches
+        s[2] += true
+        s[3].append(true)
+        s[4] += in_pose
+        s[5] += true_in_pose
+    return {state: (s[0], s[1], s[2], statistics.median(s[3]), s[4], s[5]) for state, s in out.items()}
+
+
+def share(a, b):
+    return '%5.1f %%' % (100.0 * a / b) if b else '   -   '
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument('run', help='output folder of gmc-rgbd-mapping run with Output.match_log=true')
+    p.add_argument('gt', help="ground truth in TUM format, the camera's poses")
+    p.add_argument('--tolerance', default='0.03,0.01', metavar='BASE,PER_M2',
+                   help='m: a match is true within BASE + PER_M2 * z^2 (default 0.03,0.01)')
+    p.add_argument('--frames', action='store_true', help='first one line per frame')
+    args = p.parse_args()
+    matches_path = os.path.join(args.run, 'map_matches.csv')
+    for path in (matches_path, args.gt):
+        if not os.path.isfile(path):
+            sys.exit('match_truth.py: %s: no such file (run with --set Output.match_log=true)' % path)
+    try:
+        base, per_m2 = (float(v) for v in args.tolerance.split(','))
+    except ValueError:
+        sys.exit('match_truth.py: --tolerance %s: expected BASE,PER_M2 in metres' % args.tolerance)
+    try:
+        rows = read_matches(matches_path)
+    except (KeyError, ValueError) as e:
+        sys.exit('match_truth.py: %s: not a map_matches.csv (%s)' % (matches_path, e))
+    gt = read_poses(args.gt)
+    if not gt:
+        sys.exit('match_truth.py: %s: no poses' % args.gt)
+    frames = per_frame(rows, judge(rows, gt, base, per_m2))
+    if args.frames:
+        print('frame state       matches  true  in pose  true in pose')
+        for frame in sorted(frames):
+            state, matches, true, in_pose, true_in_pose, _ = frames[frame]
+            print('%5d %-11s %7d %5d %8d %13d' % (frame, state, matches, true, in_pose, true_in_pose))
+    uncovered = sum(f[5] for f in frames.values())
+    print('map matches judged against %s (true within %.3f m + %.3f m * z^2)%s' %
+          (args.gt, base, per_m2, '; %d outside the ground truth, not counted' % uncovered if uncovered else ''))
+    print('state       frames  matches    true (share)   true per frame, median  in pose  true in pose (share)')
+    for state, (n, matches, true, median, in_pose, true_in_pose) in sorted(summary(frames).items()):
+        print('%-11s %6d %8d %7d (%s) %24g %8d %7d (%s)' % (state, n, matches, true, share(true, matches), median,
+                                                             in_pose, true_in_pose, share(true_in_pose, in_pose)))
+
+
+if __name__ == '__main__':
+    main()
