@@ -4,16 +4,18 @@
 gmc-rgbd-mapping with Output.match_log=true writes map_matches.csv: per frame, every
 match against the landmark map (with depth), with the matched point in the current
 camera's frame and the observation that placed the landmark (its point in that camera's
-frame and its stamp), GMC's label and whether it went into the pose. A match is *true*
-when both are the same point of the world: the ground-truth poses at the two stamps take
-them to world points within --tolerance (3 cm + 1 cm * z^2, z the current depth: depth
-noise of both readings and the ground truth's own error). The estimated poses play no
+frame and its stamp), GMC's label, whether it went into the pose refinement and whether
+it is an inlier of the refinement's result. A match is *true* when both are the same
+point of the world: the ground-truth poses at the two stamps take them to world points
+within --tolerance (3 cm + 1 cm * z^2, z the current depth: depth noise of both readings
+and the ground truth's own error). The estimated poses play no
 part, so a run that drifted is judged as fairly as one that did not. A point on a person
 who stood still between the two stamps is true too: it is what the pose may rest on.
 
 Prints, per tracking state (tracking, lost, ...), the frames, the matches, the true ones
-(their share and the median per frame), and of the matches in the pose the true share
-(the pose's support precision); with --frames first one line per frame. Where the lost
+(their share and the median per frame), of the matches that went into the pose the true
+share, and of the refinement's inliers the true share (what the pose rests on); with
+--frames first one line per frame. Where the lost
 frames have almost no true match, the room in view is not in the map
 (doc/odometry.md, twenty-ninth round); where the pose's support is mostly false, the
 pose follows something that moves.
@@ -74,37 +76,42 @@ def read_matches(path):
                          'point': (float(r['x']), float(r['y']), float(r['z'])),
                          'origin': (float(r['origin_x']), float(r['origin_y']), float(r['origin_z'])),
                          'origin_stamp': float(r['origin_stamp']), 'label': r['label'],
-                         'in_pose': r['in_pose'] == '1'})
+                         'in_pose': r['in_pose'] == '1', 'pose_inlier': r['pose_inlier'] == '1'})
     return rows
 
 
 def per_frame(rows, verdicts):
-    """frame -> [state, matches, true, in pose, true in pose, uncovered]."""
+    """frame -> [state, matches, true, in pose, true in pose, inliers, true inliers, uncovered]."""
     frames = {}
     for r, v in zip(rows, verdicts):
-        f = frames.setdefault(r['frame'], [r['state'], 0, 0, 0, 0, 0])
+        f = frames.setdefault(r['frame'], [r['state'], 0, 0, 0, 0, 0, 0, 0])
         if v is None:
-            f[5] += 1
+            f[7] += 1
             continue
         f[1] += 1
         f[2] += v
         f[3] += r['in_pose']
         f[4] += v and r['in_pose']
+        f[5] += r['pose_inlier']
+        f[6] += v and r['pose_inlier']
     return frames
 
 
 def summary(frames):
-    """Per state: (frames, matches, true, median true per frame, in pose, true in pose)."""
+    """Per state: (frames, matches, true, median true per frame, in pose, true in pose,
+    inliers, true inliers)."""
     out = {}
-    for state, matches, true, in_pose, true_in_pose, _ in frames.values():
-        s = out.setdefault(state, [0, 0, 0, [], 0, 0])
+    for state, matches, true, in_pose, true_in_pose, inliers, true_inliers, _ in frames.values():
+        s = out.setdefault(state, [0, 0, 0, [], 0, 0, 0, 0])
         s[0] += 1
         s[1] += matches
         s[2] += true
         s[3].append(true)
         s[4] += in_pose
         s[5] += true_in_pose
-    return {state: (s[0], s[1], s[2], statistics.median(s[3]), s[4], s[5]) for state, s in out.items()}
+        s[6] += inliers
+        s[7] += true_inliers
+    return {state: (s[0], s[1], s[2], statistics.median(s[3]), s[4], s[5], s[6], s[7]) for state, s in out.items()}
 
 
 def share(a, b):
@@ -136,17 +143,21 @@ def main():
         sys.exit('match_truth.py: %s: no poses' % args.gt)
     frames = per_frame(rows, judge(rows, gt, base, per_m2))
     if args.frames:
-        print('frame state       matches  true  in pose  true in pose')
+        print('frame state       matches  true  in pose  true in pose  inliers  true inliers')
         for frame in sorted(frames):
-            state, matches, true, in_pose, true_in_pose, _ = frames[frame]
-            print('%5d %-11s %7d %5d %8d %13d' % (frame, state, matches, true, in_pose, true_in_pose))
-    uncovered = sum(f[5] for f in frames.values())
+            state, matches, true, in_pose, true_in_pose, inliers, true_inliers, _ = frames[frame]
+            print('%5d %-11s %7d %5d %8d %13d %8d %13d' % (frame, state, matches, true, in_pose, true_in_pose, inliers,
+                                                         true_inliers))
+    uncovered = sum(f[7] for f in frames.values())
     print('map matches judged against %s (true within %.3f m + %.3f m * z^2)%s' %
           (args.gt, base, per_m2, '; %d outside the ground truth, not counted' % uncovered if uncovered else ''))
-    print('state       frames  matches    true (share)   true per frame, median  in pose  true in pose (share)')
-    for state, (n, matches, true, median, in_pose, true_in_pose) in sorted(summary(frames).items()):
-        print('%-11s %6d %8d %7d (%s) %24g %8d %7d (%s)' % (state, n, matches, true, share(true, matches), median,
-                                                             in_pose, true_in_pose, share(true_in_pose, in_pose)))
+    print('state       frames  matches    true (share)   true per frame, median  in pose  true (share)    '
+          'inliers  true (share)')
+    for state, (n, matches, true, median, in_pose, true_in_pose, inliers, true_inliers) in sorted(
+            summary(frames).items()):
+        print('%-11s %6d %8d %7d (%s) %24g %8d %7d (%s) %8d %7d (%s)' %
+              (state, n, matches, true, share(true, matches), median, in_pose, true_in_pose,
+               share(true_in_pose, in_pose), inliers, true_inliers, share(true_inliers, inliers)))
 
 
 if __name__ == '__main__':

@@ -10,14 +10,15 @@ import tempfile
 import unittest
 
 SCRIPT = sys.argv.pop(1) if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), '../../scripts/match_truth.py')
-HEADER = 'frame,stamp,state,u,v,x,y,z,origin_x,origin_y,origin_z,origin_stamp,label,established,in_pose\n'
+HEADER = 'frame,stamp,state,u,v,x,y,z,origin_x,origin_y,origin_z,origin_stamp,label,established,in_pose,pose_inlier\n'
 
 
 def write_run(root):
     """Camera at x = 0.5 t, turned 90 deg about y from t = 101 on. A wall point W = (1, 0, 3)
     (world) is seen from every frame; a walker's point was at (0, 0, 2) at t = 100 and is
     0.5 m further along x at t = 101. Frame 1 (t = 100.5, tracking): the wall (true, in the
-    pose), the walker (false, in the pose), the wall matched to a landmark placed before
+    pose and an inlier), the walker (false, in the pose and an inlier: the pose followed
+    it), the wall matched to a landmark placed before
     the ground truth starts (not judged). Frame 2 (t = 101.2, lost): the wall (true), the
     walker (false), both out of the pose."""
     run = os.path.join(root, 'run')
@@ -38,17 +39,17 @@ def write_run(root):
 
     rows = []
 
-    def add(frame, t, state, world_now, world_then, then, in_pose):
+    def add(frame, t, state, world_now, world_then, then, in_pose, inlier):
         p, o = in_camera(world_now, t), in_camera(world_then, then)
-        rows.append('%d,%.6f,%s,320,240,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,S,0,%d\n' %
-                    (frame, t, state, p[0], p[1], p[2], o[0], o[1], o[2], then, in_pose))
+        rows.append('%d,%.6f,%s,320,240,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,S,0,%d,%d\n' %
+                    (frame, t, state, p[0], p[1], p[2], o[0], o[1], o[2], then, in_pose, inlier))
 
     wall, walker_then, walker_now = (1, 0, 3), (0, 0, 2), (0.5, 0, 2)
-    add(1, 100.5, 'tracking', wall, wall, 100.0, 1)
-    add(1, 100.5, 'tracking', walker_now, walker_then, 100.0, 1)
-    add(1, 100.5, 'tracking', wall, wall, 99.0, 1)
-    add(2, 101.2, 'lost', wall, wall, 100.5, 0)
-    add(2, 101.2, 'lost', walker_now, walker_then, 100.0, 0)
+    add(1, 100.5, 'tracking', wall, wall, 100.0, 1, 1)
+    add(1, 100.5, 'tracking', walker_now, walker_then, 100.0, 1, 1)
+    add(1, 100.5, 'tracking', wall, wall, 99.0, 1, 1)
+    add(2, 101.2, 'lost', wall, wall, 100.5, 0, 0)
+    add(2, 101.2, 'lost', walker_now, walker_then, 100.0, 0, 0)
     with open(os.path.join(run, 'map_matches.csv'), 'w') as f:
         f.write(HEADER)
         f.writelines(rows)
@@ -74,6 +75,7 @@ class MatchTruth(unittest.TestCase):
             tracking = state_line(r.stdout, 'tracking')
             self.assertEqual([tracking[1], tracking[2], tracking[3]], ['1', '2', '1'])
             self.assertEqual([tracking[8], tracking[9]], ['2', '1'])
+            self.assertEqual([tracking[13], tracking[14]], ['2', '1'])
             lost = state_line(r.stdout, 'lost')
             self.assertEqual([lost[1], lost[2], lost[3]], ['1', '2', '1'])
             self.assertEqual([lost[8], lost[9]], ['0', '0'])
@@ -91,8 +93,8 @@ class MatchTruth(unittest.TestCase):
             r = run_script(run, gt, '--frames')
             self.assertEqual(r.returncode, 0, r.stderr)
             lines = r.stdout.splitlines()
-            self.assertEqual(lines[1].split(), ['1', 'tracking', '2', '1', '2', '1'])
-            self.assertEqual(lines[2].split(), ['2', 'lost', '2', '1', '0', '0'])
+            self.assertEqual(lines[1].split(), ['1', 'tracking', '2', '1', '2', '1', '2', '1'])
+            self.assertEqual(lines[2].split(), ['2', 'lost', '2', '1', '0', '0', '0', '0'])
 
     def test_bad_input_is_named(self):
         with tempfile.TemporaryDirectory() as root:

@@ -74,8 +74,8 @@ TEST(OdometrySim, RecoversTheCameraMotionWithoutNoiseOrPeople) {
 
 // The map matches a frame reports (map_matches.csv) carry the observation that placed
 // each landmark: in a static scene nearly each is the same world point as the match, by
-// the true poses alone (1.5 % are wrong matches, most beyond 5 m), and those that went
-// into the pose are the keypoints marked so.
+// the true poses alone (1.5 % are wrong matches, most beyond 5 m), those that went
+// into the pose are the keypoints marked so, and the refinement's inliers among them.
 TEST(OdometrySim, MapMatchesNameTheObservationThatPlacedTheirLandmark) {
   const gmc::sim::Simulator sim(emptyHalfsphere());
   gmc::vo::RgbdOdometry vo{gmc::vo::OdometryConfig{}};
@@ -84,7 +84,7 @@ TEST(OdometrySim, MapMatchesNameTheObservationThatPlacedTheirLandmark) {
   for (int i = 0; i < 30; ++i) {
     const auto [f, t] = trackSimFrame(sim, vo, i);
     truth[f.frame.stamp] = f.T_world_camera;
-    int in_pose = 0;
+    int in_pose = 0, pose_inliers = 0;
     for (const auto& m : t.map_matches) {
       ASSERT_TRUE(truth.count(m.landmark_origin_stamp)) << "frame " << i;
       EXPECT_LT(m.landmark_origin_stamp, f.frame.stamp);
@@ -94,8 +94,11 @@ TEST(OdometrySim, MapMatchesNameTheObservationThatPlacedTheirLandmark) {
       far += d > 0.03 + 0.01 * m.point_cur.z() * m.point_cur.z();
       ++records;
       in_pose += m.in_pose;
+      pose_inliers += m.pose_inlier;
       EXPECT_EQ(m.in_pose, t.keypoint_in_pose[static_cast<size_t>(m.keypoint)] != 0);
+      EXPECT_TRUE(m.in_pose || !m.pose_inlier);
     }
+    EXPECT_EQ(pose_inliers, t.num_inliers) << "frame " << i;
     int marked = 0;
     for (auto k : t.keypoint_in_pose) marked += k;
     EXPECT_EQ(in_pose, marked) << "frame " << i;

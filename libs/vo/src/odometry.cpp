@@ -421,6 +421,7 @@ void RgbdOdometry::addStaticLandmarkMatches(const features::FeatureSet& ref, con
 RefinementResult RgbdOdometry::refineOnBackground(const Isometry& T_world_guess, const Isometry& T_world_pred,
                                                   double frame_gap, const PinholeCamera& camera, FrameTracking& out) {
   std::vector<PointObservation> obs;
+  std::vector<size_t> obs_match;  // the match of each observation (map_matches)
   out.num_static = out.num_dynamic = 0;
   double max_weight = 0;
   for (size_t k = 0; k < track_.motion.size(); ++k) {
@@ -441,6 +442,7 @@ RefinementResult RgbdOdometry::refineOnBackground(const Isometry& T_world_guess,
     if (!choice_.inlier.empty() && !choice_.inlier[k]) continue;  // a young map: the chosen motion's inliers
     const auto& m = track_.motion[k];
     out.keypoint_in_pose[cur_index] = 1;
+    obs_match.push_back(k);
     obs.push_back({map_[track_.landmark[k]].position, m.pixel.cast<double>(), m.point_cur.z(),
                    track_.trust.weight[k]});
     max_weight = std::max(max_weight, track_.trust.weight[k]);
@@ -452,11 +454,15 @@ RefinementResult RgbdOdometry::refineOnBackground(const Isometry& T_world_guess,
     const Landmark& l = map_[track_.landmark[k]];
     out.map_matches.push_back({keypoint, track_.motion[k].point_cur, l.origin_point, l.origin_stamp,
                                choice_.gmc.labels[k], track_.trust.established[k] != 0,
-                               out.keypoint_in_pose[static_cast<size_t>(keypoint)] != 0});
+                               out.keypoint_in_pose[static_cast<size_t>(keypoint)] != 0, false});
   }
   // Relative trust: young landmarks count less only next to landmarks with evidence.
   for (auto& o : obs) o.weight /= max_weight;
-  return refinePose(obs, T_world_guess.inverse(), camera, config_.refinement, motionPrior(T_world_pred, frame_gap));
+  RefinementResult refined =
+      refinePose(obs, T_world_guess.inverse(), camera, config_.refinement, motionPrior(T_world_pred, frame_gap));
+  for (size_t j = 0; j < refined.inlier_flags.size(); ++j)
+    out.map_matches[obs_match[j]].pose_inlier = refined.inlier_flags[j] != 0;
+  return refined;
 }
 
 MotionPrior RgbdOdometry::motionPrior(const Isometry& T_world_pred, double frame_gap) const {

@@ -82,7 +82,9 @@ RefinementResult refinePose(const std::vector<PointObservation>& observations,
     Vec6 g = Vec6::Zero();
     double cost = 0;
     int inliers = 0;
-    for (const auto& ob : observations) {
+    result.inlier_flags.assign(observations.size(), 0);
+    for (size_t i = 0; i < observations.size(); ++i) {
+      const auto& ob = observations[i];
       const Eigen::Vector3d p = result.T_cur_ref * ob.point_ref;
       if (p.z() <= 1e-3) continue;
       const double iz = 1.0 / p.z();
@@ -118,6 +120,7 @@ RefinementResult refinePose(const std::vector<PointObservation>& observations,
       }
       cost += sq;
       inliers += inlier ? 1 : 0;
+      result.inlier_flags[i] = inlier ? 1 : 0;
     }
     result.final_cost = cost;
     result.inliers = inliers;

@@ -257,7 +257,7 @@ void TrackingLog::onEnd(PipelineReport&, const mapping::StaticMapBuilder*) {
 }
 
 MatchLog::MatchLog(std::string out_dir) : dir_(std::move(out_dir)) {
-  csv_ << "frame,stamp,state,u,v,x,y,z,origin_x,origin_y,origin_z,origin_stamp,label,established,in_pose\n"
+  csv_ << "frame,stamp,state,u,v,x,y,z,origin_x,origin_y,origin_z,origin_stamp,label,established,in_pose,pose_inlier\n"
        << std::fixed << std::setprecision(6);
 }
 
@@ -269,7 +269,7 @@ void MatchLog::onFrame(const FrameEvent& e) {
     csv_ << e.report.frames << "," << t.stamp << "," << vo::toString(t.state) << "," << kp.x << "," << kp.y << ","
          << m.point_cur.x() << "," << m.point_cur.y() << "," << m.point_cur.z() << "," << m.landmark_origin.x() << ","
          << m.landmark_origin.y() << "," << m.landmark_origin.z() << "," << m.landmark_origin_stamp << "," << label
-         << "," << m.established << "," << m.in_pose << "\n";
+         << "," << m.established << "," << m.in_pose << "," << m.pose_inlier << "\n";
   }
 }
 

@@ -127,6 +127,7 @@ struct MapMatchRecord {
   MotionLabel label = MotionLabel::Undecided;               ///< GMC's label for the pose
   bool established = false;                                 ///< the landmark has static evidence
   bool in_pose = false;                                     ///< went into the pose refinement
+  bool pose_inlier = false;                                 ///< ... and is an inlier at its result
 };
 
 struct FrameTracking {

@@ -1,6 +1,7 @@
 #pragma once
 // Robust Gauss-Newton refinement of a camera motion on reprojection and depth
 // residuals (Huber), used on the matches GMC labels static.
+#include <cstdint>
 #include <vector>
 
 #include "gmc/gmc/types.h"
@@ -38,6 +39,7 @@ struct PointObservation {
 struct RefinementResult {
   Isometry T_cur_ref = Isometry::Identity();
   int inliers = 0;            ///< observations with whitened error below the Huber threshold
+  std::vector<std::uint8_t> inlier_flags;  ///< per observation: 1 where counted in `inliers`
   double final_cost = 0;
   bool converged = false;
   /// Medians over the observations at the result: reprojection error (px) and depth
