@@ -132,8 +132,8 @@ class TrackingLog : public FrameObserver {
 
 /// map_matches.csv: one row per match of a frame against the landmark map, with the
 /// matched point and the observation that placed the landmark (each in its camera's
-/// frame), GMC's label and whether it went into the pose: scripts/match_truth.py judges
-/// them against a ground truth trajectory.
+/// frame), GMC's label, whether it went into the pose and whether it is an inlier of the
+/// refinement's result: scripts/match_truth.py judges them against a ground truth.
 class MatchLog : public FrameObserver {
  public:
   explicit MatchLog(std::string out_dir);
