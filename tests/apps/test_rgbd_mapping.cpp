@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 #include <sstream>
 
@@ -148,6 +149,53 @@ TEST(RgbdMappingApp, TrackingLogHasEveryFramesStatePoseAndLostReason) {
     const int to_refind = std::stoi(rows[i][15]), refound = std::stoi(rows[i][16]);
     EXPECT_LE(refound, to_refind) << i;
     EXPECT_EQ(to_refind > 0, i >= 2 && i != 6) << i << ": " << to_refind;
+  }
+}
+
+// map_matches.csv: one row per map match, with the observation that placed its
+// landmark (earlier than the frame), and as many refinement inliers per frame as
+// tracking.csv counts (scripts/match_truth.py reads it).
+TEST(RgbdMappingApp, MatchLogHasEveryMapMatchWithItsLandmarksOrigin) {
+  const auto root = gmc::testdata::scratchDir("mapping_match_log");
+  const auto seq = gmc::testdata::makeWallSequence(root + "/seq", 8);
+  const auto out = root + "/out";
+  ASSERT_EQ(runMapping({GMC_SOURCE_DIR "/config/default.ini", seq, "--out", out, "--set", "Output.tracking_log=true",
+                        "--set", "Output.match_log=true", "--set", "Output.map=false"}),
+            0);
+  auto readCsv = [](const std::string& path, std::string& header) {
+    std::ifstream csv(path);
+    std::getline(csv, header);
+    std::vector<std::vector<std::string>> rows;
+    for (std::string line; std::getline(csv, line);) {
+      std::vector<std::string> fields;
+      std::stringstream ss(line);
+      for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
+      rows.push_back(fields);
+    }
+    return rows;
+  };
+  std::string header;
+  const auto tracking = readCsv(out + "/tracking.csv", header);
+  const auto matches = readCsv(out + "/map_matches.csv", header);
+  EXPECT_EQ(header,
+            "frame,stamp,state,u,v,x,y,z,origin_x,origin_y,origin_z,origin_stamp,label,established,in_pose,pose_inlier");
+  ASSERT_EQ(tracking.size(), 8u);
+  std::map<int, int> inliers, rows_per_frame;
+  for (const auto& m : matches) {
+    ASSERT_EQ(m.size(), 16u);
+    const int frame = std::stoi(m[0]);
+    ASSERT_GE(frame, 2);  // the first frame only seeds the map
+    ASSERT_LE(frame, 8);
+    EXPECT_EQ(m[2], tracking[static_cast<size_t>(frame - 1)][2]);
+    EXPECT_LT(std::stod(m[11]), std::stod(m[1]));
+    EXPECT_GT(std::stod(m[10]), 0.0) << "the origin is a point in front of its camera";
+    EXPECT_TRUE(m[15] == "0" || m[14] == "1") << "an inlier that did not go into the pose";
+    inliers[frame] += m[15] == "1";
+    ++rows_per_frame[frame];
+  }
+  for (int frame = 2; frame <= 8; ++frame) {
+    EXPECT_GT(rows_per_frame[frame], 50) << frame;
+    EXPECT_EQ(inliers[frame], std::stoi(tracking[static_cast<size_t>(frame - 1)][12])) << frame;
   }
 }
 

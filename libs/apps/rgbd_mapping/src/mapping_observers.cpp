@@ -226,12 +226,20 @@ void MemorySampler::onEnd(PipelineReport&, const mapping::StaticMapBuilder*) {
   datasets::writeImageAtomic((fs::path(dir_) / "memory.png").string(), plotMemory(samples_));
 }
 
-TrackingLog::TrackingLog(std::string out_dir) : dir_(std::move(out_dir)) {
-  csv_ << "frame,stamp,state,keyframe,window_shift,window_discarded,rejoined,start_consensus,background,matches,static,dynamic,"
-          "inliers,static_landmarks_matched,static_landmarks_agreeing,landmarks_to_refind,landmarks_refound,gmc_clusters,"
-          "gmc_static_fallback,position_sigma,pixel_error_median,depth_error_median,x,y,z,qx,qy,qz,qw,lost_reason\n"
-       << std::fixed << std::setprecision(6);
+CsvLog::CsvLog(std::string path, const char* header) : path_(std::move(path)) {
+  csv_ << header << "\n" << std::fixed << std::setprecision(6);
 }
+
+void CsvLog::onEnd(PipelineReport&, const mapping::StaticMapBuilder*) {
+  datasets::writeTextAtomic(path_, csv_.str());
+}
+
+TrackingLog::TrackingLog(const std::string& out_dir)
+    : CsvLog((fs::path(out_dir) / "tracking.csv").string(),
+             "frame,stamp,state,keyframe,window_shift,window_discarded,rejoined,start_consensus,background,matches,"
+             "static,dynamic,inliers,static_landmarks_matched,static_landmarks_agreeing,landmarks_to_refind,"
+             "landmarks_refound,gmc_clusters,gmc_static_fallback,position_sigma,pixel_error_median,"
+             "depth_error_median,x,y,z,qx,qy,qz,qw,lost_reason") {}
 
 void TrackingLog::onFrame(const FrameEvent& e) {
   const auto& t = e.tracking;
@@ -252,14 +260,10 @@ void TrackingLog::onFrame(const FrameEvent& e) {
        << "\"\n";
 }
 
-void TrackingLog::onEnd(PipelineReport&, const mapping::StaticMapBuilder*) {
-  datasets::writeTextAtomic((fs::path(dir_) / "tracking.csv").string(), csv_.str());
-}
-
-MatchLog::MatchLog(std::string out_dir) : dir_(std::move(out_dir)) {
-  csv_ << "frame,stamp,state,u,v,x,y,z,origin_x,origin_y,origin_z,origin_stamp,label,established,in_pose,pose_inlier\n"
-       << std::fixed << std::setprecision(6);
-}
+MatchLog::MatchLog(const std::string& out_dir)
+    : CsvLog((fs::path(out_dir) / "map_matches.csv").string(),
+             "frame,stamp,state,u,v,x,y,z,origin_x,origin_y,origin_z,origin_stamp,label,established,in_pose,"
+             "pose_inlier") {}
 
 void MatchLog::onFrame(const FrameEvent& e) {
   const auto& t = e.tracking;
@@ -271,10 +275,6 @@ void MatchLog::onFrame(const FrameEvent& e) {
          << m.landmark_origin.y() << "," << m.landmark_origin.z() << "," << m.landmark_origin_stamp << "," << label
          << "," << m.established << "," << m.in_pose << "," << m.pose_inlier << "\n";
   }
-}
-
-void MatchLog::onEnd(PipelineReport&, const mapping::StaticMapBuilder*) {
-  datasets::writeTextAtomic((fs::path(dir_) / "map_matches.csv").string(), csv_.str());
 }
 
 }  // namespace gmc::apps

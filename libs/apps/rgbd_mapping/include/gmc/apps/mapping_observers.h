@@ -116,33 +116,37 @@ class MemorySampler : public FrameObserver {
   std::vector<Sample> samples_;
 };
 
+/// A CSV log of the run, filled frame by frame and written whole (atomically) at its end.
+class CsvLog : public FrameObserver {
+ public:
+  void onEnd(PipelineReport&, const mapping::StaticMapBuilder*) override;
+
+ protected:
+  /// `path`: the file written at the end; `header`: its first line, without newline.
+  CsvLog(std::string path, const char* header);
+  std::ostringstream csv_;
+
+ private:
+  std::string path_;
+};
+
 /// tracking.csv: one row per frame with the odometry's state, why it is lost, the
 /// evidence behind the decision (matches, static landmarks, inliers, position sigma) and
 /// the pose, to see where and why a run goes wrong (next to gmc-eval's ate.per_pose).
-class TrackingLog : public FrameObserver {
+class TrackingLog : public CsvLog {
  public:
-  explicit TrackingLog(std::string out_dir);
+  explicit TrackingLog(const std::string& out_dir);
   void onFrame(const FrameEvent& e) override;
-  void onEnd(PipelineReport&, const mapping::StaticMapBuilder*) override;
-
- private:
-  std::string dir_;
-  std::ostringstream csv_;
 };
 
 /// map_matches.csv: one row per match of a frame against the landmark map, with the
 /// matched point and the observation that placed the landmark (each in its camera's
 /// frame), GMC's label, whether it went into the pose and whether it is an inlier of the
 /// refinement's result: scripts/match_truth.py judges them against a ground truth.
-class MatchLog : public FrameObserver {
+class MatchLog : public CsvLog {
  public:
-  explicit MatchLog(std::string out_dir);
+  explicit MatchLog(const std::string& out_dir);
   void onFrame(const FrameEvent& e) override;
-  void onEnd(PipelineReport&, const mapping::StaticMapBuilder*) override;
-
- private:
-  std::string dir_;
-  std::ostringstream csv_;
 };
 
 }  // namespace gmc::apps
