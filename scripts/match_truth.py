@@ -14,8 +14,9 @@ who stood still between the two stamps is true too: it is what the pose may rest
 
 Prints, per tracking state (tracking, lost, ...), the frames, the matches, the true ones
 (their share and the median per frame), of the matches that went into the pose the true
-share, and of the refinement's inliers the true share (what the pose rests on); with
---frames first one line per frame. Where the lost
+share, and of the refinement's inliers the true share (what the pose rests on), then
+how many frames rest a tenth or more on false inliers; with --frames first one line per
+frame. Where the lost
 frames have almost no true match, the room in view is not in the map
 (doc/odometry.md, twenty-ninth round); where the pose's support is mostly false, the
 pose follows something that moves.
@@ -114,6 +115,14 @@ def summary(frames):
     return {state: (s[0], s[1], s[2], statistics.median(s[3]), s[4], s[5], s[6], s[7]) for state, s in out.items()}
 
 
+def frames_on_false_inliers(frames, min_inliers=20, min_false=0.1):
+    """(frames whose refinement inliers, min_inliers or more, are min_false or more false;
+    the worst such share, 0 when none): where a pose rests partly on something that moved."""
+    shares = [(f[5] - f[6]) / f[5] for f in frames.values() if f[5] >= min_inliers]
+    bad = [x for x in shares if x >= min_false]
+    return len(bad), max(shares, default=0.0)
+
+
 def share(a, b):
     return '%5.1f %%' % (100.0 * a / b) if b else '   -   '
 
@@ -158,6 +167,9 @@ def main():
         print('%-11s %6d %8d %7d (%s) %24g %8d %7d (%s) %8d %7d (%s)' %
               (state, n, matches, true, share(true, matches), median, in_pose, true_in_pose,
                share(true_in_pose, in_pose), inliers, true_inliers, share(true_inliers, inliers)))
+    count, worst = frames_on_false_inliers(frames)
+    print('frames whose refinement inliers (20 or more) are 10 %% or more false: %d (worst %.0f %% false)' %
+          (count, 100 * worst))
 
 
 if __name__ == '__main__':

@@ -76,6 +76,8 @@ class MatchTruth(unittest.TestCase):
             self.assertEqual([tracking[1], tracking[2], tracking[3]], ['1', '2', '1'])
             self.assertEqual([tracking[8], tracking[9]], ['2', '1'])
             self.assertEqual([tracking[13], tracking[14]], ['2', '1'])
+            # frame 1 has 2 judged inliers, under the 20 the count needs
+            self.assertIn('10 % or more false: 0 (worst 0 % false)', r.stdout)
             lost = state_line(r.stdout, 'lost')
             self.assertEqual([lost[1], lost[2], lost[3]], ['1', '2', '1'])
             self.assertEqual([lost[8], lost[9]], ['0', '0'])
@@ -86,6 +88,25 @@ class MatchTruth(unittest.TestCase):
             r = run_script(run, gt, '--tolerance', '0.6,0')
             self.assertEqual(r.returncode, 0, r.stderr)
             self.assertEqual(state_line(r.stdout, 'tracking')[3], '2')
+
+    def test_frames_resting_on_false_inliers_are_counted(self):
+        with tempfile.TemporaryDirectory() as root:
+            run, gt = write_run(root)
+            path = os.path.join(run, 'map_matches.csv')
+            with open(path) as f:
+                lines = f.read().splitlines(True)
+            wall, walker = lines[1], lines[2]
+            # Frame 1 with 18 more wall inliers (20 in all judged) and the walker: 1 of 20 false
+            # (5 %); then 2 more walker inliers: 3 of 22 (14 %).
+            with open(path, 'a') as f:
+                f.writelines([wall] * 18)
+            r = run_script(run, gt)
+            self.assertIn('10 % or more false: 0 (worst 5 % false)', r.stdout)
+            with open(path, 'a') as f:
+                f.writelines([walker] * 2)
+            r = run_script(run, gt)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertIn('10 % or more false: 1 (worst 14 % false)', r.stdout)
 
     def test_per_frame_lines(self):
         with tempfile.TemporaryDirectory() as root:
