@@ -8,18 +8,17 @@ frame and its stamp), GMC's label, whether it went into the pose refinement and 
 it is an inlier of the refinement's result. A match is *true* when both are the same
 point of the world: the ground-truth poses at the two stamps take them to world points
 within --tolerance (3 cm + 1 cm * z^2, z the current depth: depth noise of both readings
-and the ground truth's own error). The estimated poses play no
-part, so a run that drifted is judged as fairly as one that did not. A point on a person
-who stood still between the two stamps is true too: it is what the pose may rest on.
+and the ground truth's own error). The estimated poses play no part, so a run that
+drifted is judged as fairly as one that did not. A point on a person who stood still
+between the two stamps is true too: it is what the pose may rest on.
 
 Prints, per tracking state (tracking, lost, ...), the frames, the matches, the true ones
 (their share and the median per frame), of the matches that went into the pose the true
 share, and of the refinement's inliers the true share (what the pose rests on), then
 how many frames rest a tenth or more on false inliers; with --frames first one line per
-frame. Where the lost
-frames have almost no true match, the room in view is not in the map
-(doc/odometry.md, twenty-ninth round); where the pose's support is mostly false, the
-pose follows something that moves.
+frame. Where the lost frames have almost no true match, the room in view is not in the
+map (doc/odometry.md, twenty-ninth round); where the pose's inliers are mostly false,
+the pose follows something that moves.
 
   gmc-rgbd-mapping config/default.ini out/seeds/crowd_start_seed1_300 --out R \\
       --set Output.map=false --set Output.match_log=true
@@ -81,44 +80,44 @@ def read_matches(path):
     return rows
 
 
+COUNTS = ('matches', 'true', 'in_pose', 'true_in_pose', 'inliers', 'true_inliers', 'uncovered')
+
+
 def per_frame(rows, verdicts):
-    """frame -> [state, matches, true, in pose, true in pose, inliers, true inliers, uncovered]."""
+    """frame -> {'state': ..., and each of COUNTS}."""
     frames = {}
     for r, v in zip(rows, verdicts):
-        f = frames.setdefault(r['frame'], [r['state'], 0, 0, 0, 0, 0, 0, 0])
+        f = frames.setdefault(r['frame'], dict.fromkeys(COUNTS, 0) | {'state': r['state']})
         if v is None:
-            f[7] += 1
+            f['uncovered'] += 1
             continue
-        f[1] += 1
-        f[2] += v
-        f[3] += r['in_pose']
-        f[4] += v and r['in_pose']
-        f[5] += r['pose_inlier']
-        f[6] += v and r['pose_inlier']
+        f['matches'] += 1
+        f['true'] += v
+        f['in_pose'] += r['in_pose']
+        f['true_in_pose'] += v and r['in_pose']
+        f['inliers'] += r['pose_inlier']
+        f['true_inliers'] += v and r['pose_inlier']
     return frames
 
 
 def summary(frames):
-    """Per state: (frames, matches, true, median true per frame, in pose, true in pose,
-    inliers, true inliers)."""
+    """Per state: the sums of COUNTS over its frames, 'frames', and 'median_true' per frame."""
     out = {}
-    for state, matches, true, in_pose, true_in_pose, inliers, true_inliers, _ in frames.values():
-        s = out.setdefault(state, [0, 0, 0, [], 0, 0, 0, 0])
-        s[0] += 1
-        s[1] += matches
-        s[2] += true
-        s[3].append(true)
-        s[4] += in_pose
-        s[5] += true_in_pose
-        s[6] += inliers
-        s[7] += true_inliers
-    return {state: (s[0], s[1], s[2], statistics.median(s[3]), s[4], s[5], s[6], s[7]) for state, s in out.items()}
+    for f in frames.values():
+        s = out.setdefault(f['state'], dict.fromkeys(COUNTS, 0) | {'frames': 0, 'true_per_frame': []})
+        s['frames'] += 1
+        s['true_per_frame'].append(f['true'])
+        for key in COUNTS:
+            s[key] += f[key]
+    for s in out.values():
+        s['median_true'] = statistics.median(s.pop('true_per_frame'))
+    return out
 
 
 def frames_on_false_inliers(frames, min_inliers=20, min_false=0.1):
     """(frames whose refinement inliers, min_inliers or more, are min_false or more false;
     the worst such share, 0 when none): where a pose rests partly on something that moved."""
-    shares = [(f[5] - f[6]) / f[5] for f in frames.values() if f[5] >= min_inliers]
+    shares = [1 - f['true_inliers'] / f['inliers'] for f in frames.values() if f['inliers'] >= min_inliers]
     bad = [x for x in shares if x >= min_false]
     return len(bad), max(shares, default=0.0)
 
@@ -154,19 +153,19 @@ def main():
     if args.frames:
         print('frame state       matches  true  in pose  true in pose  inliers  true inliers')
         for frame in sorted(frames):
-            state, matches, true, in_pose, true_in_pose, inliers, true_inliers, _ = frames[frame]
-            print('%5d %-11s %7d %5d %8d %13d %8d %13d' % (frame, state, matches, true, in_pose, true_in_pose, inliers,
-                                                         true_inliers))
-    uncovered = sum(f[7] for f in frames.values())
+            f = frames[frame]
+            print('%5d %-11s %7d %5d %8d %13d %8d %13d' % (frame, f['state'], f['matches'], f['true'], f['in_pose'],
+                                                         f['true_in_pose'], f['inliers'], f['true_inliers']))
+    uncovered = sum(f['uncovered'] for f in frames.values())
     print('map matches judged against %s (true within %.3f m + %.3f m * z^2)%s' %
           (args.gt, base, per_m2, '; %d outside the ground truth, not counted' % uncovered if uncovered else ''))
     print('state       frames  matches    true (share)   true per frame, median  in pose  true (share)    '
           'inliers  true (share)')
-    for state, (n, matches, true, median, in_pose, true_in_pose, inliers, true_inliers) in sorted(
-            summary(frames).items()):
+    for state, s in sorted(summary(frames).items()):
         print('%-11s %6d %8d %7d (%s) %24g %8d %7d (%s) %8d %7d (%s)' %
-              (state, n, matches, true, share(true, matches), median, in_pose, true_in_pose,
-               share(true_in_pose, in_pose), inliers, true_inliers, share(true_inliers, inliers)))
+              (state, s['frames'], s['matches'], s['true'], share(s['true'], s['matches']), s['median_true'],
+               s['in_pose'], s['true_in_pose'], share(s['true_in_pose'], s['in_pose']), s['inliers'],
+               s['true_inliers'], share(s['true_inliers'], s['inliers'])))
     count, worst = frames_on_false_inliers(frames)
     print('frames whose refinement inliers (20 or more) are 10 %% or more false: %d (worst %.0f %% false)' %
           (count, 100 * worst))

@@ -36,6 +36,20 @@ int runMapping(std::vector<std::string> args) {
   return gmc::testdata::runApp<gmc::apps::RgbdMappingApp>("gmc-rgbd-mapping", std::move(args));
 }
 
+/// The rows of a CSV the app wrote, split at commas; its first line goes to `header`.
+std::vector<std::vector<std::string>> readCsv(const std::string& path, std::string& header) {
+  std::ifstream csv(path);
+  std::getline(csv, header);
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(csv, line);) {
+    std::vector<std::string> fields;
+    std::stringstream ss(line);
+    for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
+    rows.push_back(fields);
+  }
+  return rows;
+}
+
 TEST(RgbdMappingApp, WallSequenceEndToEnd) {
   const auto root = gmc::testdata::scratchDir("mapping_wall");
   const auto seq = gmc::testdata::makeWallSequence(root + "/seq", 40);
@@ -112,16 +126,8 @@ TEST(RgbdMappingApp, TrackingLogHasEveryFramesStatePoseAndLostReason) {
                         "--set", "Output.map=false"}),
             0);
   const auto est = gmc::datasets::readTumTrajectory(out + "/trajectory_tum.txt");
-  std::ifstream csv(out + "/tracking.csv");
-  std::getline(csv, line);
+  const auto rows = readCsv(out + "/tracking.csv", line);
   EXPECT_EQ(line.rfind("frame,stamp,state,keyframe,window_shift,window_discarded,rejoined,start_consensus,", 0), 0u) << line;
-  std::vector<std::vector<std::string>> rows;
-  while (std::getline(csv, line)) {
-    std::vector<std::string> fields;
-    std::stringstream ss(line);
-    for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
-    rows.push_back(fields);
-  }
   ASSERT_EQ(rows.size(), 10u);
   ASSERT_EQ(est.size(), 10u);
   const Eigen::Vector3d midway = 0.5 * (est[4].pose.translation() + est[6].pose.translation());
@@ -162,18 +168,6 @@ TEST(RgbdMappingApp, MatchLogHasEveryMapMatchWithItsLandmarksOrigin) {
   ASSERT_EQ(runMapping({GMC_SOURCE_DIR "/config/default.ini", seq, "--out", out, "--set", "Output.tracking_log=true",
                         "--set", "Output.match_log=true", "--set", "Output.map=false"}),
             0);
-  auto readCsv = [](const std::string& path, std::string& header) {
-    std::ifstream csv(path);
-    std::getline(csv, header);
-    std::vector<std::vector<std::string>> rows;
-    for (std::string line; std::getline(csv, line);) {
-      std::vector<std::string> fields;
-      std::stringstream ss(line);
-      for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
-      rows.push_back(fields);
-    }
-    return rows;
-  };
   std::string header;
   const auto tracking = readCsv(out + "/tracking.csv", header);
   const auto matches = readCsv(out + "/map_matches.csv", header);

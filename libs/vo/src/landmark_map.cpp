@@ -5,6 +5,19 @@
 #include <numeric>
 
 namespace gmc::vo {
+namespace {
+
+/// Puts a landmark where an observation (camera frame, at `stamp`) sees it: its
+/// evidence starts over, and the observation is the one its matches are judged by.
+void placeAt(Landmark& l, const Eigen::Vector3d& seen, const Eigen::Vector3d& point_cur, double stamp) {
+  l.position = seen;
+  l.origin_point = point_cur;
+  l.origin_stamp = stamp;
+  l.evidence_since = l.last_seen_in_place = stamp;
+  l.hits_in_place = 1;
+}
+
+}  // namespace
 
 size_t LandmarkMap::numAlive() const {
   return static_cast<size_t>(
@@ -78,13 +91,9 @@ std::vector<std::pair<int, int>> LandmarkMap::addFeatures(const features::Featur
   for (size_t i = 0; i < features.size(); ++i) {
     if (matched[i] || !features.hasDepth(static_cast<int>(i))) continue;
     Landmark l;
-    l.position = T_world_camera * features.points[i];
+    placeAt(l, T_world_camera * features.points[i], features.points[i], stamp);
     std::memcpy(l.descriptor.data(), features.descriptors.ptr<std::uint8_t>(static_cast<int>(i)), 32);
-    l.evidence_since = l.last_seen_in_place = stamp;
-    l.hits_in_place = 1;
     l.keyframe = keyframe;
-    l.origin_point = features.points[i];
-    l.origin_stamp = stamp;
     if (labels[i] == MotionLabel::Dynamic) l.suspect_until = stamp + options_.suspect_seconds;
     added.emplace_back(static_cast<int>(i), static_cast<int>(landmarks_.size()));
     landmarks_.push_back(l);
@@ -109,11 +118,7 @@ void LandmarkMap::observe(const std::vector<LandmarkObservation>& observations,
       // Followed while suspect, so that a walker keeps being recognised; moving on
       // renews the suspicion.
       if (!in_band) l.suspect_until = stamp + options_.suspect_seconds;
-      l.position = seen;
-      l.origin_point = o.point_cur;
-      l.origin_stamp = stamp;
-      l.evidence_since = l.last_seen_in_place = stamp;
-      l.hits_in_place = 1;
+      placeAt(l, seen, o.point_cur, stamp);
       continue;
     }
     if (in_band && !dynamic_label) {
@@ -146,11 +151,7 @@ void LandmarkMap::observe(const std::vector<LandmarkObservation>& observations,
       continue;
     }
     // Moved, or persistently somewhere else: its evidence was for a place it has left.
-    l.position = seen;
-    l.origin_point = o.point_cur;
-    l.origin_stamp = stamp;
-    l.evidence_since = l.last_seen_in_place = stamp;
-    l.hits_in_place = 1;
+    placeAt(l, seen, o.point_cur, stamp);
     l.moved_streak = 0;
   }
 }
