@@ -16,7 +16,11 @@ Prints, per tracking state (tracking, lost, ...), the frames, the matches, the t
 (their share and the median per frame), of the matches that went into the pose the true
 share, and of the refinement's inliers the true share (what the pose rests on), then
 how many frames rest a tenth or more on false inliers; with --frames first one line per
-frame. Where the lost frames have almost no true match, the room in view is not in the
+frame. --split FIRST-LAST splits the matches that went into the pose over those frames
+by their landmark's evidence (static / young) and verdict, and counts among them the
+refinement's inliers, those placed at most --recent frames before and those nearer than
+--near metres (doc/odometry.md, thirty-first round: where the false ones are young,
+recent and near, walkers entered the map at a keyframe before GMC could judge them). Where the lost frames have almost no true match, the room in view is not in the
 map (doc/odometry.md, twenty-ninth round); where the pose's inliers are mostly false,
 the pose follows something that moves.
 
@@ -76,6 +80,7 @@ def read_matches(path):
                          'point': (float(r['x']), float(r['y']), float(r['z'])),
                          'origin': (float(r['origin_x']), float(r['origin_y']), float(r['origin_z'])),
                          'origin_stamp': float(r['origin_stamp']), 'label': r['label'],
+                         'established': r['established'] == '1',
                          'in_pose': r['in_pose'] == '1', 'pose_inlier': r['pose_inlier'] == '1'})
     return rows
 
@@ -122,6 +127,33 @@ def frames_on_false_inliers(frames, min_inliers=20, min_false=0.1):
     return len(bad), max(shares, default=0.0)
 
 
+def frame_interval(rows):
+    """The median interval between consecutive frames' stamps (s), 0 with one frame."""
+    stamps = sorted({r['stamp'] for r in rows})
+    steps = [b - a for a, b in zip(stamps, stamps[1:]) if b > a]
+    return statistics.median(steps) if steps else 0.0
+
+
+SPLIT_COUNTS = ('matches', 'inliers', 'recent', 'near')
+
+
+def split_in_pose(rows, verdicts, first, last, recent_frames, near):
+    """{(evidence 'static' | 'young', verdict True | False): counts of SPLIT_COUNTS} over the
+    matches of frames first..last that went into the pose (judged ones only)."""
+    interval = frame_interval(rows)
+    out = {(e, v): dict.fromkeys(SPLIT_COUNTS, 0) for e in ('static', 'young') for v in (True, False)}
+    for r, v in zip(rows, verdicts):
+        if v is None or not r['in_pose'] or not first <= r['frame'] <= last:
+            continue
+        c = out[('static' if r['established'] else 'young', v)]
+        age = (r['stamp'] - r['origin_stamp']) / interval if interval > 0 else 0.0
+        c['matches'] += 1
+        c['inliers'] += r['pose_inlier']
+        c['recent'] += age <= recent_frames + 0.5
+        c['near'] += r['point'][2] < near
+    return out
+
+
 def share(a, b):
     return '%5.1f %%' % (100.0 * a / b) if b else '   -   '
 
@@ -133,7 +165,19 @@ def main():
     p.add_argument('--tolerance', default='0.03,0.01', metavar='BASE,PER_M2',
                    help='m: a match is true within BASE + PER_M2 * z^2 (default 0.03,0.01)')
     p.add_argument('--frames', action='store_true', help='first one line per frame')
+    p.add_argument('--split', metavar='FIRST-LAST',
+                   help="also split those frames' matches in the pose by evidence and verdict")
+    p.add_argument('--recent', type=int, default=8, help='--split: frames since placement that count as recent (8)')
+    p.add_argument('--near', type=float, default=2.5, help='--split: m, depth that counts as near (2.5)')
     args = p.parse_args()
+    split = None
+    if args.split is not None:
+        try:
+            split = tuple(int(v) for v in args.split.split('-'))
+            if len(split) != 2 or split[0] > split[1]:
+                raise ValueError
+        except ValueError:
+            sys.exit('match_truth.py: --split %s: expected FIRST-LAST frame numbers' % args.split)
     matches_path = os.path.join(args.run, 'map_matches.csv')
     for path in (matches_path, args.gt):
         if not os.path.isfile(path):
@@ -149,7 +193,8 @@ def main():
     gt = read_poses(args.gt)
     if not gt:
         sys.exit('match_truth.py: %s: no poses' % args.gt)
-    frames = per_frame(rows, judge(rows, gt, base, per_m2))
+    verdicts = judge(rows, gt, base, per_m2)
+    frames = per_frame(rows, verdicts)
     if args.frames:
         print('frame state       matches  true  in pose  true in pose  inliers  true inliers')
         for frame in sorted(frames):
@@ -169,6 +214,13 @@ def main():
     count, worst = frames_on_false_inliers(frames)
     print('frames whose refinement inliers (20 or more) are 10 %% or more false: %d (worst %.0f %% false)' %
           (count, 100 * worst))
+    if split:
+        print('matches in the pose, frames %d-%d: landmark  verdict  matches  inliers  placed <= %d frames before  '
+              'nearer than %g m' % (split[0], split[1], args.recent, args.near))
+        for (evidence, verdict), c in split_in_pose(rows, verdicts, split[0], split[1], args.recent,
+                                                     args.near).items():
+            print('%-7s %-5s %7d %8d %26d %17d' % (evidence, 'true' if verdict else 'false', c['matches'],
+                                                   c['inliers'], c['recent'], c['near']))
 
 
 if __name__ == '__main__':

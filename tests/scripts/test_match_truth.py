@@ -117,6 +117,33 @@ class MatchTruth(unittest.TestCase):
             self.assertEqual(lines[1].split(), ['1', 'tracking', '2', '1', '2', '1', '2', '1'])
             self.assertEqual(lines[2].split(), ['2', 'lost', '2', '1', '0', '0', '0', '0'])
 
+    def test_split_of_the_matches_in_the_pose(self):
+        with tempfile.TemporaryDirectory() as root:
+            run, gt = write_run(root)
+            path = os.path.join(run, 'map_matches.csv')
+            with open(path) as f:
+                lines = f.read().splitlines(True)
+            # Frame 1's wall match on a landmark with static evidence; the walker's stays young.
+            lines[1] = lines[1].replace(',S,0,1,1', ',S,1,1,1')
+            with open(path, 'w') as f:
+                f.writelines(lines)
+            r = run_script(run, gt, '--split', '1-2')
+            self.assertEqual(r.returncode, 0, r.stderr)
+            rows = {tuple(line.split()[:2]): line.split()[2:] for line in r.stdout.splitlines()
+                    if line.split()[:1] in (['static'], ['young'])}
+            # matches, inliers, placed <= 8 frames before (0.5 s at a 0.7 s frame interval), nearer than 2.5 m;
+            # frame 2's matches are out of the pose, the third of frame 1 is not judged.
+            self.assertEqual(rows[('static', 'true')], ['1', '1', '1', '0'])
+            self.assertEqual(rows[('young', 'false')], ['1', '1', '1', '1'])
+            self.assertEqual(rows[('young', 'true')], ['0', '0', '0', '0'])
+            r = run_script(run, gt, '--split', '1-2', '--recent', '0', '--near', '1.5')
+            rows = {tuple(line.split()[:2]): line.split()[2:] for line in r.stdout.splitlines()
+                    if line.split()[:1] in (['static'], ['young'])}
+            self.assertEqual(rows[('young', 'false')], ['1', '1', '0', '0'])
+            r = run_script(run, gt, '--split', '3-1')
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn('--split', r.stderr)
+
     def test_bad_input_is_named(self):
         with tempfile.TemporaryDirectory() as root:
             run, gt = write_run(root)
