@@ -56,6 +56,19 @@ def write_run(root):
     return run, os.path.join(root, 'gt.txt')
 
 
+def match_lines(run):
+    """The run's map_matches.csv path and its lines (header first)."""
+    path = os.path.join(run, 'map_matches.csv')
+    with open(path) as f:
+        return path, f.read().splitlines(True)
+
+
+def split_rows(stdout):
+    """--split's lines: (evidence, verdict) -> [matches, inliers, recent, near]."""
+    return {tuple(line.split()[:2]): line.split()[2:] for line in stdout.splitlines()
+            if line.split()[:1] in (['static'], ['young'])}
+
+
 def run_script(*args):
     return subprocess.run([sys.executable, SCRIPT] + list(args), capture_output=True, text=True)
 
@@ -92,9 +105,7 @@ class MatchTruth(unittest.TestCase):
     def test_frames_resting_on_false_inliers_are_counted(self):
         with tempfile.TemporaryDirectory() as root:
             run, gt = write_run(root)
-            path = os.path.join(run, 'map_matches.csv')
-            with open(path) as f:
-                lines = f.read().splitlines(True)
+            path, lines = match_lines(run)
             wall, walker = lines[1], lines[2]
             # Frame 1 with 18 more wall inliers (20 in all judged) and the walker: 1 of 20 false
             # (5 %); then 2 more walker inliers: 3 of 22 (14 %).
@@ -120,25 +131,21 @@ class MatchTruth(unittest.TestCase):
     def test_split_of_the_matches_in_the_pose(self):
         with tempfile.TemporaryDirectory() as root:
             run, gt = write_run(root)
-            path = os.path.join(run, 'map_matches.csv')
-            with open(path) as f:
-                lines = f.read().splitlines(True)
+            path, lines = match_lines(run)
             # Frame 1's wall match on a landmark with static evidence; the walker's stays young.
             lines[1] = lines[1].replace(',S,0,1,1', ',S,1,1,1')
             with open(path, 'w') as f:
                 f.writelines(lines)
             r = run_script(run, gt, '--split', '1-2')
             self.assertEqual(r.returncode, 0, r.stderr)
-            rows = {tuple(line.split()[:2]): line.split()[2:] for line in r.stdout.splitlines()
-                    if line.split()[:1] in (['static'], ['young'])}
+            rows = split_rows(r.stdout)
             # matches, inliers, placed <= 8 frames before (0.5 s at a 0.7 s frame interval), nearer than 2.5 m;
             # frame 2's matches are out of the pose, the third of frame 1 is not judged.
             self.assertEqual(rows[('static', 'true')], ['1', '1', '1', '0'])
             self.assertEqual(rows[('young', 'false')], ['1', '1', '1', '1'])
             self.assertEqual(rows[('young', 'true')], ['0', '0', '0', '0'])
             r = run_script(run, gt, '--split', '1-2', '--recent', '0', '--near', '1.5')
-            rows = {tuple(line.split()[:2]): line.split()[2:] for line in r.stdout.splitlines()
-                    if line.split()[:1] in (['static'], ['young'])}
+            rows = split_rows(r.stdout)
             self.assertEqual(rows[('young', 'false')], ['1', '1', '0', '0'])
             r = run_script(run, gt, '--split', '3-1')
             self.assertNotEqual(r.returncode, 0)
