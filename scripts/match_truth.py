@@ -20,9 +20,10 @@ frame. --split FIRST-LAST splits the matches that went into the pose over those 
 by their landmark's evidence (static / young) and verdict, and counts among them the
 refinement's inliers, those placed at most --recent frames before and those nearer than
 --near metres (doc/odometry.md, thirty-first round: where the false ones are young,
-recent and near, walkers entered the map at a keyframe before GMC could judge them). Where the lost frames have almost no true match, the room in view is not in the
-map (doc/odometry.md, twenty-ninth round); where the pose's inliers are mostly false,
-the pose follows something that moves.
+recent and near, walkers entered the map at a keyframe before GMC could judge them).
+Where the lost frames have almost no true match, the room in view is not in the map
+(doc/odometry.md, twenty-ninth round); where the pose's inliers are mostly false, the
+pose follows something that moves.
 
   gmc-rgbd-mapping config/default.ini out/seeds/crowd_start_seed1_300 --out R \\
       --set Output.map=false --set Output.match_log=true

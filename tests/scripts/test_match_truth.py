@@ -65,8 +65,8 @@ def match_lines(run):
 
 def split_rows(stdout):
     """--split's lines: (evidence, verdict) -> [matches, inliers, recent, near]."""
-    return {tuple(line.split()[:2]): line.split()[2:] for line in stdout.splitlines()
-            if line.split()[:1] in (['static'], ['young'])}
+    fields = (line.split() for line in stdout.splitlines())
+    return {tuple(f[:2]): f[2:] for f in fields if f[:1] in (['static'], ['young'])}
 
 
 def run_script(*args):
