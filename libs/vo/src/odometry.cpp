@@ -61,7 +61,8 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
               InPlaceThreshold{config.background.inlier_base, config.background.inlier_per_m2}),
       consensus_(config.start_consensus),
       gmc_previous_(config.gmc),
-      smoother_(config.odometry.smoothing_frames, config.odometry.smoothing_break) {
+      smoother_(config.odometry.smoothing_frames, config.odometry.smoothing_break),
+      tracks_(config.odometry.track_frames) {
   const auto seed = static_cast<std::uint64_t>(config.odometry.random_seed);
   background_.reseed(seed);
   rejoin_.reseed(seed);
@@ -147,6 +148,9 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
     if (fresh_dynamic_[i]) memory_[i] = config_.odometry.dynamic_memory_frames;
 
   rememberTrackedFrame(out);
+  // Re-posed frames (a start consensus, a rejoin) do not continue the poses before them.
+  tracks_.extend(cur, previous_matches_, out.T_world_camera,
+                 out.state == TrackingState::Tracking && !out.start_consensus && !out.rejoined);
   // 6. Static evidence, keyframes, windowed optimisation.
   t0 = Clock::now();
   updateMap(cur, stamp, out);
@@ -653,7 +657,19 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
     const auto& kp = cur.keypoints[static_cast<size_t>(track_.cur_index[k])].pt;
     kf.observations.push_back({0, track_.landmark[k], Eigen::Vector2d(kp.x, kp.y), track_.motion[k].point_cur.z()});
   }
-  for (const auto& [feature, id] : map_.addFeatures(cur, track_.matched, out.keypoint_labels, out.T_world_camera,
+  // A keypoint whose track moved on in the world makes its landmark start suspect, as
+  // GMC's dynamic label does. Tracks are measured through the poses: not while a new
+  // map's start is still judged (a group walking with the camera makes the room's corners
+  // look as if they moved), and only among walkers (on a static scene a new landmark is as
+  // good as an old one). Measured, off by default: doc/odometry.md, thirty-second round.
+  std::vector<MotionLabel> labels = out.keypoint_labels;
+  const auto& o = config_.odometry;
+  if (tracks_.enabled() && !consensus_.active() && dynamicShare(out) >= o.track_min_dynamic_share) {
+    const InPlaceThreshold threshold{config_.background.inlier_base, config_.background.inlier_per_m2};
+    for (size_t i = 0; i < labels.size(); ++i)
+      if (tracks_.movedOn(i) > o.track_moved_factor * threshold.at(cur.points[i].z())) labels[i] = MotionLabel::Dynamic;
+  }
+  for (const auto& [feature, id] : map_.addFeatures(cur, track_.matched, labels, out.T_world_camera,
                                                     stamp, keyframe_count_)) {
     const auto& kp = cur.keypoints[static_cast<size_t>(feature)].pt;
     kf.observations.push_back({0, id, Eigen::Vector2d(kp.x, kp.y), cur.points[static_cast<size_t>(feature)].z()});

@@ -11,6 +11,7 @@
 #include "gmc/features/frontend.h"
 #include "gmc/gmc/gmc.h"
 #include "gmc/vo/background.h"
+#include "gmc/vo/feature_tracks.h"
 #include "gmc/vo/keyframe_policy.h"
 #include "gmc/vo/landmark_map.h"
 #include "gmc/vo/map_records.h"
@@ -55,6 +56,13 @@ struct OdometryOptions {
                                         ///< extrapolating the velocity when the map holds no
                                         ///< static evidence yet and at least this share of the
                                         ///< last tracked frame's labelled matches were dynamic
+  int track_frames = 0;                 ///< a keyframe's new landmark whose frame-to-frame track
+                                        ///< over up to this many tracked frames moved on in the
+                                        ///< world starts suspect (0 = off; FeatureTracks)
+  double track_moved_factor = 5.0;      ///< ... moved on: further than this many inlier
+                                        ///< thresholds ([Background] inlier_*)
+  double track_min_dynamic_share = 0.1; ///< ... judged only on keyframes where GMC labels at
+                                        ///< least this share of the matches dynamic
 
   template <class V>
   void visit(V& v) {
@@ -83,6 +91,14 @@ struct OdometryOptions {
     v("young_map_lost_still_share", young_map_lost_still_share, 0.0, 2.0,
       "lost frames in a map without static evidence stand still when this share of the last tracked "
       "frame's labelled matches were dynamic (0 = always, above 1 = never)");
+    v("track_frames", track_frames, 0, FeatureTracks::kMaxLength,
+      "a keyframe's new landmark whose frame-to-frame track over up to this many tracked frames moved on in the "
+      "world starts suspect, once a new map's start is judged (0 = off)");
+    v("track_moved_factor", track_moved_factor, 0.1, 1000.0,
+      "moved on: the track's two halves go one way, the shorter one doubled further than this many inlier "
+      "thresholds ([Background] inlier_*)");
+    v("track_min_dynamic_share", track_min_dynamic_share, 0.0, 1.0,
+      "tracks are judged only on keyframes where at least this share of the labelled matches is dynamic");
   }
 };
 
@@ -295,6 +311,7 @@ class RgbdOdometry {
   int keyframe_count_ = 0;
   std::vector<WindowKeyframe> window_keyframes_;  ///< oldest first
   std::vector<int> pose_landmarks_;     ///< landmarks that held the last tracked pose (ids)
+  FeatureTracks tracks_;                ///< the keypoints' frame-to-frame tracks in the world
 };
 
 }  // namespace gmc::vo
