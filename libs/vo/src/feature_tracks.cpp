@@ -8,8 +8,9 @@ FeatureTracks::FeatureTracks(int length) : length_(std::clamp(length, 0, kMaxLen
 
 void FeatureTracks::extend(const features::FeatureSet& cur, const std::vector<features::FeatureMatch>& matches,
                            const Isometry& T_world_camera, bool continues) {
-  std::vector<Track> next(enabled() ? cur.size() : 0);
-  if (enabled() && continues) {
+  if (!enabled()) return;
+  std::vector<Track> next(cur.size());
+  if (continues) {
     for (const auto& m : matches)
       if (static_cast<size_t>(m.ref) < tracks_.size() && static_cast<size_t>(m.cur) < next.size())
         next[static_cast<size_t>(m.cur)] = tracks_[static_cast<size_t>(m.ref)];

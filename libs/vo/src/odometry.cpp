@@ -28,6 +28,9 @@ MotionMatch motionMatch(const features::FeatureSet& ref, const features::Feature
           cur.points[static_cast<size_t>(m.cur)]};
 }
 
+/// The 3-D inlier threshold of the background options: what "in place" means everywhere.
+InPlaceThreshold inPlaceThreshold(const BackgroundOptions& b) { return {b.inlier_base, b.inlier_per_m2}; }
+
 /// The same pose with its rotation re-orthonormalised: poses are inverted (as
 /// transposes) and composed with the velocity every frame, which doubles any departure
 /// from a rotation each frame until it shows.
@@ -58,7 +61,7 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
       window_(config.window, config.refinement),
       map_(config.local_map),
       rejoin_(config.rejoin, config.refinement,
-              InPlaceThreshold{config.background.inlier_base, config.background.inlier_per_m2}),
+              inPlaceThreshold(config.background)),
       consensus_(config.start_consensus),
       gmc_previous_(config.gmc),
       smoother_(config.odometry.smoothing_frames, config.odometry.smoothing_break),
@@ -232,8 +235,7 @@ void RgbdOdometry::judgeStart(double stamp, FrameTracking& out) {
   for (size_t k = 0; k < track_.motion.size(); ++k)
     frame.observations.emplace_back(track_.landmark[k], track_.motion[k].point_cur);
   consensus_.add(frame);
-  const auto& b = config_.background;
-  const ConsensusResult consensus = consensus_.solve(InPlaceThreshold{b.inlier_base, b.inlier_per_m2});
+  const ConsensusResult consensus = consensus_.solve(inPlaceThreshold(config_.background));
   if (!consensus.found || consensus.score < config_.start_consensus.min_gain * consensus.given_score) return;
   if (static_cast<int>(consensus.inliers_latest.size()) < config_.odometry.min_static_inliers) return;
   adoptConsensus(consensus, stamp, out);
@@ -557,8 +559,7 @@ void RgbdOdometry::updateMap(const features::FeatureSet& cur, double stamp, Fram
     // renew its own suspicion while it stays in place.
     for (size_t k = 0; k < track_.motion.size(); ++k)
       seen.push_back({track_.landmark[k], track_.motion[k].point_cur, choice_.gmc.labels[k]});
-    const auto& b = config_.background;
-    map_.observe(seen, track_.view.ids, out.T_world_camera, stamp, InPlaceThreshold{b.inlier_base, b.inlier_per_m2});
+    map_.observe(seen, track_.view.ids, out.T_world_camera, stamp, inPlaceThreshold(config_.background));
   }
   KeyframeFrame frame;
   frame.tracked = out.state == TrackingState::Tracking;
@@ -665,7 +666,7 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
   std::vector<MotionLabel> labels = out.keypoint_labels;
   const auto& o = config_.odometry;
   if (tracks_.enabled() && !consensus_.active() && dynamicShare(out) >= o.track_min_dynamic_share) {
-    const InPlaceThreshold threshold{config_.background.inlier_base, config_.background.inlier_per_m2};
+    const InPlaceThreshold threshold = inPlaceThreshold(config_.background);
     for (size_t i = 0; i < labels.size(); ++i)
       if (tracks_.movedOn(i) > o.track_moved_factor * threshold.at(cur.points[i].z())) labels[i] = MotionLabel::Dynamic;
   }
