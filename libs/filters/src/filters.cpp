@@ -219,6 +219,7 @@ bool GmcFilter::filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& c
   auto& result = std::any_cast<vo::FrameTracking&>(tracking);
   const auto mask_start = std::chrono::steady_clock::now();
   context.dynamic_mask = mask_builder_->build(result, frame.depth, frame.depth_units, frame.camera);
+  odometry_->distrustMaskedLandmarks(context.dynamic_mask);
   result.times.mask =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - mask_start).count();
 

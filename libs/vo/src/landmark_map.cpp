@@ -171,6 +171,10 @@ void LandmarkMap::judgeStart(const std::vector<std::pair<int, Eigen::Vector3d>>&
   for (int id : outside) landmarks_[static_cast<size_t>(id)].suspect_until = stamp + options_.suspect_seconds;
 }
 
+void LandmarkMap::distrust(int id, double stamp) {
+  landmarks_[static_cast<size_t>(id)].suspect_until = stamp + options_.suspect_seconds;
+}
+
 std::vector<int> LandmarkMap::cull(double stamp) {
   for (size_t i = 0; i < landmarks_.size(); ++i) {
     Landmark& l = landmarks_[i];

@@ -20,6 +20,16 @@ double dynamicShare(const FrameTracking& t) {
   return static_cast<double>(t.num_dynamic) / std::max(1, t.num_static + t.num_dynamic);
 }
 
+/// Median depth of the keypoints that held the frame's pose (0 when none did).
+double medianPoseDepth(const features::FeatureSet& cur, const FrameTracking& t) {
+  std::vector<double> z;
+  for (size_t i = 0; i < cur.size(); ++i)
+    if (t.keypoint_in_pose[i]) z.push_back(cur.points[i].z());
+  if (z.empty()) return 0;
+  std::nth_element(z.begin(), z.begin() + static_cast<long>(z.size() / 2), z.end());
+  return z[z.size() / 2];
+}
+
 /// The GMC input of one feature match: current pixel, reference and current 3-D points.
 MotionMatch motionMatch(const features::FeatureSet& ref, const features::FeatureSet& cur,
                         const features::FeatureMatch& m) {
@@ -91,6 +101,7 @@ bool RgbdOdometry::standStillWhileLost() const {
 FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, double depth_units,
                                     const PinholeCamera& camera, double stamp) {
   const auto t_start = Clock::now();
+  maskable_.clear();
   FrameTracking out;
   out.stamp = stamp;
   out.frame_number = ++frame_number_;
@@ -177,6 +188,17 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   last_stamp_ = stamp;
   out.times.total = msSince(t_start);
   return out;
+}
+
+void RgbdOdometry::distrustMaskedLandmarks(const cv::Mat& mask) {
+  // A walker's untextured parts and its corners that GMC left undecided are in the mask
+  // (free space, depth-continuous growth from its dynamic keypoints) though not labelled.
+  for (const auto& [id, kp] : maskable_) {
+    const int u = static_cast<int>(std::lround(kp.x)), v = static_cast<int>(std::lround(kp.y));
+    if (u < 0 || v < 0 || u >= mask.cols || v >= mask.rows || mask.at<std::uint8_t>(v, u) == 0) continue;
+    map_.distrust(id, maskable_stamp_);
+  }
+  maskable_.clear();
 }
 
 // ------------------------------------------------------------------ steps
@@ -670,11 +692,23 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
     for (size_t i = 0; i < labels.size(); ++i)
       if (tracks_.movedOn(i) > o.track_moved_factor * threshold.at(cur.points[i].z())) labels[i] = MotionLabel::Dynamic;
   }
+  // The dynamic mask (given after process()) judges the same new landmarks under the same
+  // conditions, and only where landmarks with static evidence hold the pose (the mask is
+  // drawn with it). Measured, off by default: doc/odometry.md, thirty-third round.
+  const bool maskable = o.mask_new_landmarks && !consensus_.active() && out.state == TrackingState::Tracking &&
+                        dynamicShare(out) >= o.mask_min_dynamic_share &&
+                        out.static_landmarks_matched >= o.mask_min_static_landmarks;
+  // Walkers pass in front of the room: only a new landmark in front of what holds the pose
+  // is judged. A pose that follows walkers sees the room move and masks it; behind the
+  // walkers it holds on, the room is not taken out of the map.
+  const double masked_in_front_of = maskable ? medianPoseDepth(cur, out) - o.mask_front_margin : 0.0;
   for (const auto& [feature, id] : map_.addFeatures(cur, track_.matched, labels, out.T_world_camera,
                                                     stamp, keyframe_count_)) {
     const auto& kp = cur.keypoints[static_cast<size_t>(feature)].pt;
     kf.observations.push_back({0, id, Eigen::Vector2d(kp.x, kp.y), cur.points[static_cast<size_t>(feature)].z()});
+    if (maskable && cur.points[static_cast<size_t>(feature)].z() < masked_in_front_of) maskable_.emplace_back(id, kp);
   }
+  maskable_stamp_ = stamp;
   ++keyframe_count_;
   window_keyframes_.push_back(std::move(kf));
   const size_t capacity = window_.keptKeyframes();
@@ -687,6 +721,10 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
   for (int id : pose_landmarks_)
     if (remap[static_cast<size_t>(id)] >= 0) kept_ids.push_back(remap[static_cast<size_t>(id)]);
   pose_landmarks_.swap(kept_ids);
+  std::vector<std::pair<int, cv::Point2f>> kept_maskable;
+  for (const auto& [id, kp] : maskable_)
+    if (remap[static_cast<size_t>(id)] >= 0) kept_maskable.emplace_back(remap[static_cast<size_t>(id)], kp);
+  maskable_.swap(kept_maskable);
   consensus_.remap(remap);
   for (auto& w : window_keyframes_) {
     std::vector<WindowObservation> kept;

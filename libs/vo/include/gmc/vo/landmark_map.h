@@ -139,6 +139,8 @@ class LandmarkMap {
                   int first_keyframe, double since, double stamp);
 
   /// Moves a landmark (windowed optimisation).
+  /// A landmark found on something that moves: suspect from `stamp` on.
+  void distrust(int id, double stamp);
   void setPosition(int id, const Eigen::Vector3d& p) { landmarks_[static_cast<size_t>(id)].position = p; }
 
   /// Drops landmarks rarely re-found (static ones excepted: occluded by a crowd they are

@@ -63,6 +63,15 @@ struct OdometryOptions {
                                         ///< thresholds ([Background] inlier_*)
   double track_min_dynamic_share = 0.1; ///< ... judged only on keyframes where GMC labels at
                                         ///< least this share of the matches dynamic
+  bool mask_new_landmarks = false;      ///< a keyframe's new landmark inside the frame's dynamic
+                                        ///< mask (given by distrustMaskedLandmarks, as the gmc
+                                        ///< filter does) starts suspect
+  double mask_min_dynamic_share = 0.1;  ///< ... only on keyframes where GMC labels at least this
+                                        ///< share of the matches dynamic
+  double mask_front_margin = 0.3;       ///< ... and only landmarks nearer by this much (m) than the
+                                        ///< median depth of the points that held the pose
+  int mask_min_static_landmarks = 20;   ///< ... and only where the frame matched at least this
+                                        ///< many landmarks with static evidence
 
   template <class V>
   void visit(V& v) {
@@ -99,6 +108,16 @@ struct OdometryOptions {
       "thresholds ([Background] inlier_*)");
     v("track_min_dynamic_share", track_min_dynamic_share, 0.0, 1.0,
       "tracks are judged only on keyframes where at least this share of the labelled matches is dynamic");
+    v("mask_new_landmarks", mask_new_landmarks,
+      "a keyframe's new landmark inside the frame's dynamic mask ([DynamicMask]) starts suspect, once a new map's "
+      "start is judged");
+    v("mask_min_dynamic_share", mask_min_dynamic_share, 0.0, 1.0,
+      "the mask is applied only on keyframes where at least this share of the labelled matches is dynamic");
+    v("mask_front_margin", mask_front_margin, -100.0, 100.0,
+      "m: the mask judges only new landmarks nearer by this much than the median depth of the pose's points "
+      "(walkers pass in front of the room; -100 judges every one)");
+    v("mask_min_static_landmarks", mask_min_static_landmarks, 0, 100000,
+      "the mask is applied only on keyframes matching at least this many landmarks with static evidence");
   }
 };
 
@@ -208,6 +227,12 @@ class RgbdOdometry {
   FrameTracking process(const cv::Mat& gray, const cv::Mat& depth, double depth_units,
                         const PinholeCamera& camera, double stamp);
 
+  /// The last processed frame's dynamic mask (CV_8UC1, non-zero = dynamic, pixels as the
+  /// image's), built after process() from its result (DynamicMaskBuilder): a landmark the
+  /// frame's keyframe made inside it starts suspect. A no-op unless [Odometry]
+  /// mask_new_landmarks is on and the frame was such a keyframe.
+  void distrustMaskedLandmarks(const cv::Mat& mask);
+
  private:
   /// The frame's matches against the landmarks visible from the predicted pose.
   struct MapTrack {
@@ -312,6 +337,9 @@ class RgbdOdometry {
   std::vector<WindowKeyframe> window_keyframes_;  ///< oldest first
   std::vector<int> pose_landmarks_;     ///< landmarks that held the last tracked pose (ids)
   FeatureTracks tracks_;                ///< the keypoints' frame-to-frame tracks in the world
+  std::vector<std::pair<int, cv::Point2f>> maskable_;  ///< this frame's new landmarks (id, pixel)
+                                                      ///< that its dynamic mask may distrust
+  double maskable_stamp_ = 0;
 };
 
 }  // namespace gmc::vo
