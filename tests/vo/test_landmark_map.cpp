@@ -190,6 +190,17 @@ TEST(LandmarkMap, DynamicFeaturesStartSuspect) {
   EXPECT_EQ(map.evidence(3, 0.1), Evidence::Young);
 }
 
+TEST(LandmarkMap, ADistrustedLandmarkIsSuspectForSuspectSeconds) {
+  LandmarkMap map;  // suspect_seconds 3
+  map.addFeatures(wallFeatures(4), std::vector<std::uint8_t>(4, 0), std::vector<MotionLabel>(4, MotionLabel::Undecided),
+                  Isometry::Identity(), 0.0, 0);
+  map.distrust(1, 0.5);
+  EXPECT_EQ(map.evidence(1, 0.6), Evidence::Suspect);
+  EXPECT_EQ(map.weight(1, 0.6), 0.0);
+  EXPECT_EQ(map.evidence(1, 3.6), Evidence::Young);
+  EXPECT_EQ(map.evidence(2, 0.6), Evidence::Young);
+}
+
 TEST(LandmarkMap, ViewKeepsLandmarksInFrontAndInsideTheImage) {
   LandmarkMap map;
   const auto f = wallFeatures(100);

@@ -138,9 +138,9 @@ class LandmarkMap {
   void judgeStart(const std::vector<std::pair<int, Eigen::Vector3d>>& consensus, const std::vector<int>& outside,
                   int first_keyframe, double since, double stamp);
 
-  /// Moves a landmark (windowed optimisation).
   /// A landmark found on something that moves: suspect from `stamp` on.
   void distrust(int id, double stamp);
+  /// Moves a landmark (windowed optimisation).
   void setPosition(int id, const Eigen::Vector3d& p) { landmarks_[static_cast<size_t>(id)].position = p; }
 
   /// Drops landmarks rarely re-found (static ones excepted: occluded by a crowd they are
