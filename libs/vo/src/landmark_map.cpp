@@ -168,7 +168,7 @@ void LandmarkMap::judgeStart(const std::vector<std::pair<int, Eigen::Vector3d>>&
     l.last_seen_in_place = stamp;
     l.moved_streak = 0;
   }
-  for (int id : outside) landmarks_[static_cast<size_t>(id)].suspect_until = stamp + options_.suspect_seconds;
+  for (int id : outside) distrust(id, stamp);
 }
 
 void LandmarkMap::distrust(int id, double stamp) {

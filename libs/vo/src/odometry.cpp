@@ -196,7 +196,7 @@ void RgbdOdometry::distrustMaskedLandmarks(const cv::Mat& mask) {
   for (const auto& [id, kp] : maskable_) {
     const int u = static_cast<int>(std::lround(kp.x)), v = static_cast<int>(std::lround(kp.y));
     if (u < 0 || v < 0 || u >= mask.cols || v >= mask.rows || mask.at<std::uint8_t>(v, u) == 0) continue;
-    map_.distrust(id, maskable_stamp_);
+    map_.distrust(id, last_stamp_);  // the keyframe's stamp: process() ends with it
   }
   maskable_.clear();
 }
@@ -708,7 +708,6 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
     kf.observations.push_back({0, id, Eigen::Vector2d(kp.x, kp.y), cur.points[static_cast<size_t>(feature)].z()});
     if (maskable && cur.points[static_cast<size_t>(feature)].z() < masked_in_front_of) maskable_.emplace_back(id, kp);
   }
-  maskable_stamp_ = stamp;
   ++keyframe_count_;
   window_keyframes_.push_back(std::move(kf));
   const size_t capacity = window_.keptKeyframes();

@@ -339,7 +339,6 @@ class RgbdOdometry {
   FeatureTracks tracks_;                ///< the keypoints' frame-to-frame tracks in the world
   std::vector<std::pair<int, cv::Point2f>> maskable_;  ///< this frame's new landmarks (id, pixel)
                                                       ///< that its dynamic mask may distrust
-  double maskable_stamp_ = 0;
 };
 
 }  // namespace gmc::vo
