@@ -9,11 +9,11 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "bench_data.h"
 #include "gmc/apps/app.h"
 #include "gmc/datasets/camera.h"
 #include "gmc/datasets/source.h"
@@ -48,9 +48,8 @@ void detect(const cv::Mat& gray, const cv::Mat& mask, std::vector<cv::Point2f>& 
 const std::vector<Frame>& bonnFrames() {
   static const std::vector<Frame> frames = [] {
     std::vector<Frame> out;
-    const char* root = std::getenv("GMC_DATA_DIR");
-    const std::string dir = std::string(root ? root : "../shared/data") + "/bonn_crowd_301_460";
-    if (!std::filesystem::exists(dir + "/rgb.txt")) return out;
+    const std::string dir = gmc::bench::sharedDataFolder("bonn_crowd_301_460");
+    if (dir.empty() || !std::filesystem::exists(dir + "/rgb.txt")) return out;
     auto source = gmc::datasets::openRgbdSource(dir, gmc::datasets::cameraPreset("bonn"));
     gmc::datasets::RgbdFrame f;
     while (out.size() < 40 && source->next(f)) {

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_data.h"
 #include "gmc/datasets/camera.h"
 #include "gmc/datasets/source.h"
 #include "gmc/datasets/tum.h"
@@ -167,9 +168,8 @@ octomap::Pointcloud staticCloud(const datasets::RgbdFrame& f, const cv::Mat& mas
 const std::vector<PosedFrame>& bonnFrames() {
   static const std::vector<PosedFrame> frames = [] {
     std::vector<PosedFrame> out;
-    const char* root = std::getenv("GMC_DATA_DIR");
-    const std::string dir = std::string(root ? root : "../shared/data") + "/bonn_crowd_240_389";
-    if (!std::filesystem::exists(dir + "/groundtruth.txt")) return out;
+    const std::string dir = gmc::bench::sharedDataFolder("bonn_crowd_240_389");
+    if (dir.empty() || !std::filesystem::exists(dir + "/groundtruth.txt")) return out;
     const auto gt = datasets::readTumTrajectory(dir + "/groundtruth.txt");
     auto source = datasets::openRgbdSource(dir, datasets::cameraPreset("bonn"));
     datasets::RgbdFrame f;

@@ -30,6 +30,20 @@ double medianPoseDepth(const features::FeatureSet& cur, const FrameTracking& t) 
   return z[z.size() / 2];
 }
 
+/// After a cull that compacted the map (remap: old id -> new id, -1 = dropped): keeps the
+/// items whose landmark survived, renumbered; `landmark_of` names an item's landmark id.
+template <class T, class LandmarkOf>
+void renumberLandmarks(std::vector<T>& items, const std::vector<int>& remap, LandmarkOf landmark_of) {
+  std::vector<T> kept;
+  kept.reserve(items.size());
+  for (T item : items) {
+    int& id = landmark_of(item);
+    id = remap[static_cast<size_t>(id)];
+    if (id >= 0) kept.push_back(std::move(item));
+  }
+  items.swap(kept);
+}
+
 /// The GMC input of one feature match: current pixel, reference and current 3-D points.
 MotionMatch motionMatch(const features::FeatureSet& ref, const features::FeatureSet& cur,
                         const features::FeatureMatch& m) {
@@ -716,23 +730,11 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
                             window_keyframes_.begin() + static_cast<long>(window_keyframes_.size() - capacity));
   const std::vector<int> remap = map_.cull(stamp);
   if (remap.empty()) return;
-  std::vector<int> kept_ids;
-  for (int id : pose_landmarks_)
-    if (remap[static_cast<size_t>(id)] >= 0) kept_ids.push_back(remap[static_cast<size_t>(id)]);
-  pose_landmarks_.swap(kept_ids);
-  std::vector<std::pair<int, cv::Point2f>> kept_maskable;
-  for (const auto& [id, kp] : maskable_)
-    if (remap[static_cast<size_t>(id)] >= 0) kept_maskable.emplace_back(remap[static_cast<size_t>(id)], kp);
-  maskable_.swap(kept_maskable);
+  renumberLandmarks(pose_landmarks_, remap, [](int& id) -> int& { return id; });
+  renumberLandmarks(maskable_, remap, [](std::pair<int, cv::Point2f>& m) -> int& { return m.first; });
   consensus_.remap(remap);
-  for (auto& w : window_keyframes_) {
-    std::vector<WindowObservation> kept;
-    for (auto ob : w.observations) {
-      ob.landmark = remap[static_cast<size_t>(ob.landmark)];
-      if (ob.landmark >= 0) kept.push_back(ob);
-    }
-    w.observations.swap(kept);
-  }
+  for (auto& w : window_keyframes_)
+    renumberLandmarks(w.observations, remap, [](WindowObservation& ob) -> int& { return ob.landmark; });
 }
 
 Isometry RgbdOdometry::optimizeWindow(const PinholeCamera& camera, double stamp, FrameTracking& out) {
