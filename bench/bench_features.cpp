@@ -2,7 +2,8 @@
 // on the first 40 frames of the real Bonn 301-460 folder (GMC_DATA_DIR, default
 // ../shared/data; skip with a message when absent), with [Frontend]'s default options
 // (config/default.ini): GFTT (cv::goodFeaturesToTrack inside the border), sub-pixel
-// refinement (cv::cornerSubPix) and ORB descriptors. The frontend is most of the
+// refinement (cv::cornerSubPix) and ORB descriptors, and the frontend's parallel versions
+// of the first two (BM_CornersInStrips, BM_SubPixelInChunks). The frontend is most of the
 // odometry's time (doc/performance.md); this says which part of it.
 //   GMC_DATA_DIR=../shared/data build/bin/features_benchmarks
 #include <benchmark/benchmark.h>
@@ -17,6 +18,7 @@
 #include "gmc/apps/app.h"
 #include "gmc/datasets/camera.h"
 #include "gmc/datasets/source.h"
+#include "gmc/features/corners.h"
 #include "gmc/features/frontend.h"
 
 namespace {
@@ -107,6 +109,26 @@ void BM_CornerSubPix(benchmark::State& state) {
   });
 }
 BENCHMARK(BM_CornerSubPix)->Unit(benchmark::kMillisecond);
+
+// The frontend's own calls: the same corners as the two above, in row strips and corner
+// chunks on OpenCV's threads (gmc/features/corners.h; tests/features checks the identity).
+void BM_CornersInStrips(benchmark::State& state) {
+  const gmc::features::CornerParams params{kOptions.max_features, kOptions.quality_level, kOptions.min_distance,
+                                           kOptions.block_size};
+  overFrames(state, [&](const Frame& f) {
+    benchmark::DoNotOptimize(gmc::features::detectCornersInside(f.gray, kOptions.border, params));
+  });
+}
+BENCHMARK(BM_CornersInStrips)->Unit(benchmark::kMillisecond);
+
+void BM_SubPixelInChunks(benchmark::State& state) {
+  std::vector<cv::Point2f> corners;
+  overFrames(state, [&](const Frame& f) {
+    corners = f.corners;
+    gmc::features::refineCornersSubPixel(f.gray, corners, kOptions.subpixel_window);
+  });
+}
+BENCHMARK(BM_SubPixelInChunks)->Unit(benchmark::kMillisecond);
 
 void BM_OrbDescriptors(benchmark::State& state) {
   // As the frontend makes it: one level, upright, the border's patch.

@@ -1,5 +1,7 @@
 #include "gmc/features/frontend.h"
 
+#include "gmc/features/corners.h"
+
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -138,14 +140,11 @@ FeatureSet Frontend::extract(const cv::Mat& gray, const cv::Mat& depth, double d
   const int b = options_.border;
   if (gray.cols <= 2 * b || gray.rows <= 2 * b) return set;
 
-  cv::Mat mask = cv::Mat::zeros(gray.size(), CV_8UC1);
-  mask(cv::Rect(b, b, gray.cols - 2 * b, gray.rows - 2 * b)).setTo(255);
-  std::vector<cv::Point2f> corners;
-  cv::goodFeaturesToTrack(gray, corners, options_.max_features, options_.quality_level,
-                          options_.min_distance, mask, options_.block_size, false);
-  if (options_.subpixel && !corners.empty())
-    cv::cornerSubPix(gray, corners, cv::Size(options_.subpixel_window, options_.subpixel_window), cv::Size(-1, -1),
-                     cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 10, 0.01));
+  // Row strips and corner chunks on OpenCV's threads, the same corners as
+  // cv::goodFeaturesToTrack and cv::cornerSubPix (gmc/features/corners.h).
+  std::vector<cv::Point2f> corners = detectCornersInside(
+      gray, b, {options_.max_features, options_.quality_level, options_.min_distance, options_.block_size});
+  if (options_.subpixel) refineCornersSubPixel(gray, corners, options_.subpixel_window);
   set.keypoints.reserve(corners.size());
   for (const auto& c : corners) set.keypoints.emplace_back(c, 31.f, 0.f);
   if (set.keypoints.empty()) return set;
