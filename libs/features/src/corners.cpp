@@ -16,10 +16,10 @@ struct StrongerFirst {
   }
 };
 
-/// Rows [begin, end) of the image split into `count` strips.
-cv::Range stripRows(int strip, int count, int rows) {
-  return {static_cast<int>(static_cast<long>(rows) * strip / count),
-          static_cast<int>(static_cast<long>(rows) * (strip + 1) / count)};
+/// The `index`-th of `count` near-equal parts of [0, total).
+cv::Range evenPart(int index, int count, int total) {
+  return {static_cast<int>(static_cast<long>(total) * index / count),
+          static_cast<int>(static_cast<long>(total) * (index + 1) / count)};
 }
 
 /// Walks the candidates from strongest to weakest, sorting them in growing batches: a
@@ -101,7 +101,7 @@ std::vector<cv::Point2f> detectCornersInside(const cv::Mat& gray, int border, co
   std::vector<double> strip_max(static_cast<size_t>(strips), 0.0);
   cv::parallel_for_(cv::Range(0, strips), [&](const cv::Range& range) {
     for (int s = range.start; s < range.end; ++s) {
-      const cv::Range rows = stripRows(s, strips, h);
+      const cv::Range rows = evenPart(s, strips, h);
       const cv::Range padded(std::max(0, rows.start - margin), std::min(h, rows.end + margin));
       cv::Mat strip_eig;
       cv::cornerMinEigenVal(gray.rowRange(padded), strip_eig, params.block_size, 3);
@@ -122,7 +122,7 @@ std::vector<cv::Point2f> detectCornersInside(const cv::Mat& gray, int border, co
   cv::parallel_for_(cv::Range(0, strips), [&](const cv::Range& range) {
     for (int s = range.start; s < range.end; ++s) {
       auto& out = strip_candidates[static_cast<size_t>(s)];
-      const cv::Range rows = stripRows(s, strips, h);
+      const cv::Range rows = evenPart(s, strips, h);
       for (int y = std::max(rows.start, y0); y < std::min(rows.end, y1); ++y) {
         const float* above = eig.ptr<float>(y - 1);
         const float* row = eig.ptr<float>(y);
@@ -152,7 +152,7 @@ void refineCornersSubPixel(const cv::Mat& gray, std::vector<cv::Point2f>& corner
   chunks = std::max(1, std::min(chunks > 0 ? chunks : 4 * cv::getNumThreads(), static_cast<int>(corners.size() / 32)));
   cv::parallel_for_(cv::Range(0, chunks), [&](const cv::Range& range) {
     for (int c = range.start; c < range.end; ++c) {
-      const cv::Range part = stripRows(c, chunks, static_cast<int>(corners.size()));
+      const cv::Range part = evenPart(c, chunks, static_cast<int>(corners.size()));
       std::vector<cv::Point2f> chunk(corners.begin() + part.start, corners.begin() + part.end);
       cv::cornerSubPix(gray, chunk, window, cv::Size(-1, -1), stop);
       std::copy(chunk.begin(), chunk.end(), corners.begin() + part.start);
