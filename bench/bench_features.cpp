@@ -113,8 +113,7 @@ BENCHMARK(BM_CornerSubPix)->Unit(benchmark::kMillisecond);
 // The frontend's own calls: the same corners as the two above, in row strips and corner
 // chunks on OpenCV's threads (gmc/features/corners.h; tests/features checks the identity).
 void BM_CornersInStrips(benchmark::State& state) {
-  const gmc::features::CornerParams params{kOptions.max_features, kOptions.quality_level, kOptions.min_distance,
-                                           kOptions.block_size};
+  const gmc::features::CornerParams params = kOptions.corners();
   overFrames(state, [&](const Frame& f) {
     benchmark::DoNotOptimize(gmc::features::detectCornersInside(f.gray, kOptions.border, params));
   });
@@ -131,9 +130,7 @@ void BM_SubPixelInChunks(benchmark::State& state) {
 BENCHMARK(BM_SubPixelInChunks)->Unit(benchmark::kMillisecond);
 
 void BM_OrbDescriptors(benchmark::State& state) {
-  // As the frontend makes it: one level, upright, the border's patch.
-  const auto orb = cv::ORB::create(kOptions.max_features, 1.2f, 1, kOptions.border - 1, 0, 2,
-                                   cv::ORB::HARRIS_SCORE, 31);
+  const auto orb = gmc::features::makeDescriptorExtractor(kOptions);  // as the frontend makes it
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;
   overFrames(state, [&](const Frame& f) {

@@ -153,9 +153,8 @@ void refineCornersSubPixel(const cv::Mat& gray, std::vector<cv::Point2f>& corner
   cv::parallel_for_(cv::Range(0, chunks), [&](const cv::Range& range) {
     for (int c = range.start; c < range.end; ++c) {
       const cv::Range part = evenPart(c, chunks, static_cast<int>(corners.size()));
-      std::vector<cv::Point2f> chunk(corners.begin() + part.start, corners.begin() + part.end);
+      cv::Mat chunk(part.size(), 1, CV_32FC2, corners.data() + part.start);  // refined in place
       cv::cornerSubPix(gray, chunk, window, cv::Size(-1, -1), stop);
-      std::copy(chunk.begin(), chunk.end(), corners.begin() + part.start);
     }
   }, chunks);
 }

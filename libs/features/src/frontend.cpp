@@ -1,7 +1,5 @@
 #include "gmc/features/frontend.h"
 
-#include "gmc/features/corners.h"
-
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -122,14 +120,15 @@ double depthAtKeypoint(const cv::Mat& depth, double depth_units, float u, float 
   return around[static_cast<size_t>(n / 2)] * depth_units;
 }
 
-Frontend::Frontend(const FrontendOptions& options, const GmsParams& gms)
-    : options_(options), gms_(gms) {
+cv::Ptr<cv::ORB> makeDescriptorExtractor(const FrontendOptions& options) {
   // Single pyramid level: GFTT corners come at one scale, and frame-to-frame or
   // frame-to-keyframe motion is small. Keypoint angles are set to 0 (upright BRIEF),
   // which is more discriminative than steered BRIEF for small in-plane rotations.
-  orb_ = cv::ORB::create(options_.max_features, 1.2f, 1, options_.border - 1, 0, 2,
-                         cv::ORB::HARRIS_SCORE, 31);
+  return cv::ORB::create(options.max_features, 1.2f, 1, options.border - 1, 0, 2, cv::ORB::HARRIS_SCORE, 31);
 }
+
+Frontend::Frontend(const FrontendOptions& options, const GmsParams& gms)
+    : options_(options), gms_(gms), orb_(makeDescriptorExtractor(options)) {}
 
 FeatureSet Frontend::extract(const cv::Mat& gray, const cv::Mat& depth, double depth_units,
                              const PinholeCamera& camera) const {
@@ -142,8 +141,7 @@ FeatureSet Frontend::extract(const cv::Mat& gray, const cv::Mat& depth, double d
 
   // Row strips and corner chunks on OpenCV's threads, the same corners as
   // cv::goodFeaturesToTrack and cv::cornerSubPix (gmc/features/corners.h).
-  std::vector<cv::Point2f> corners = detectCornersInside(
-      gray, b, {options_.max_features, options_.quality_level, options_.min_distance, options_.block_size});
+  std::vector<cv::Point2f> corners = detectCornersInside(gray, b, options_.corners());
   if (options_.subpixel) refineCornersSubPixel(gray, corners, options_.subpixel_window);
   set.keypoints.reserve(corners.size());
   for (const auto& c : corners) set.keypoints.emplace_back(c, 31.f, 0.f);

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "gmc/features/corners.h"
 #include "gmc/gmc/gms.h"
 #include "gmc/gmc/types.h"
 
@@ -30,6 +31,9 @@ struct FrontendOptions {
   double ratio = 0.9;             ///< best/second-best distance ratio (1 = off)
   bool use_gms = true;            ///< GMS match filtering before GMC
   int min_matches_for_gms = 60;   ///< GMS statistics need enough matches
+
+  /// The GFTT settings among these.
+  CornerParams corners() const { return {max_features, quality_level, min_distance, block_size}; }
 
   template <class V>
   void visit(V& v) {
@@ -66,6 +70,10 @@ struct FeatureMatch {
   int cur = 0;       ///< index in the current FeatureSet
   int distance = 0;  ///< Hamming distance
 };
+
+/// The frontend's ORB descriptor extractor: one pyramid level, upright keypoints, a patch
+/// that fits inside `border`.
+cv::Ptr<cv::ORB> makeDescriptorExtractor(const FrontendOptions& options);
 
 class Frontend {
  public:
