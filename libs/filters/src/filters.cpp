@@ -1,5 +1,3 @@
-#include <mrpt/math/CMatrixDynamic.h>  // TPixelLabelInfo.h uses it without including it
-#include <mrpt/obs/TPixelLabelInfo.h>
 #include <opencv2/imgproc.hpp>
 
 #include <chrono>
@@ -10,6 +8,7 @@
 #include "gmc/datasets/rawlog.h"
 #include "gmc/datasets/rawlog_stream.h"
 #include "gmc/filters/gmc_filter.h"
+#include "gmc/filters/pixel_labels.h"
 
 namespace gmc::filters {
 namespace {
@@ -225,15 +224,12 @@ bool GmcFilter::filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& c
 
   const cv::Mat& mask = context.dynamic_mask;
   if (options_.write_pixel_labels) {
-    auto labels = std::make_shared<mrpt::obs::TPixelLabelInfo<1>>();
-    labels->setSize(mask.rows, mask.cols);
-    labels->setLabelName(0, kDynamicLabel);
-    for (int r = 0; r < mask.rows; ++r) {
-      const auto* row = mask.ptr<std::uint8_t>(r);
-      for (int c = 0; c < mask.cols; ++c)
-        if (row[c]) labels->setLabel(r, c, 0);
+    // Labels the observation already carries (a recording's, an earlier stage's) stay.
+    try {
+      obs.pixelLabels = withLabel(obs.pixelLabels, mask, kDynamicLabel);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error("frame " + std::to_string(context.frame_index) + ": " + e.what());
     }
-    obs.pixelLabels = labels;
   }
   if (options_.zero_dynamic_depth) {
     for (int r = 0; r < mask.rows && r < static_cast<int>(obs.rangeImage.rows()); ++r) {

@@ -1,0 +1,82 @@
+#include "gmc/filters/pixel_labels.h"
+
+#include <optional>
+#include <stdexcept>
+
+namespace gmc::filters {
+namespace {
+
+template <unsigned B>
+using Labels = mrpt::obs::TPixelLabelInfo<B>;
+
+/// The label matrix of `in` as one B bytes wide (B at least as wide as `in`'s).
+template <unsigned B>
+std::shared_ptr<Labels<B>> widened(const mrpt::obs::TPixelLabelInfoBase& in) {
+  auto out = std::make_shared<Labels<B>>();
+  out->pixelLabelNames = in.pixelLabelNames;
+  auto copy = [&](const auto& src) {
+    out->setSize(static_cast<int>(src.pixelLabels.rows()), static_cast<int>(src.pixelLabels.cols()));
+    for (int r = 0; r < static_cast<int>(src.pixelLabels.rows()); ++r)
+      for (int c = 0; c < static_cast<int>(src.pixelLabels.cols()); ++c)
+        out->pixelLabels(r, c) = static_cast<typename Labels<B>::bitmask_t>(src.pixelLabels(r, c));
+  };
+  if (auto* p1 = dynamic_cast<const Labels<1>*>(&in)) copy(*p1);
+  else if (auto* p2 = dynamic_cast<const Labels<2>*>(&in)) copy(*p2);
+  else if (auto* p4 = dynamic_cast<const Labels<4>*>(&in)) copy(*p4);
+  else if (auto* p8 = dynamic_cast<const Labels<8>*>(&in)) copy(*p8);
+  else throw std::runtime_error("pixel labels of an unknown width (" + std::to_string(in.BITFIELD_BYTES) + " bytes)");
+  return out;
+}
+
+/// The index `name` has, else the first one a B-byte field leaves free.
+std::optional<unsigned> indexFor(const mrpt::obs::TPixelLabelInfoBase& labels, const std::string& name, unsigned bytes) {
+  for (const auto& [index, label] : labels.pixelLabelNames)
+    if (label == name) return index;
+  for (unsigned index = 0; index < 8 * bytes; ++index)
+    if (!labels.pixelLabelNames.count(index)) return index;
+  return std::nullopt;
+}
+
+template <unsigned B>
+mrpt::obs::TPixelLabelInfoBase::Ptr write(std::shared_ptr<Labels<B>> out, const cv::Mat& mask, unsigned index,
+                                          const std::string& name) {
+  if (out->pixelLabels.rows() != mask.rows || out->pixelLabels.cols() != mask.cols)
+    throw std::runtime_error("pixel labels are " + std::to_string(out->pixelLabels.cols()) + "x" +
+                             std::to_string(out->pixelLabels.rows()) + ", the images " + std::to_string(mask.cols) +
+                             "x" + std::to_string(mask.rows));
+  out->setLabelName(index, name);
+  for (int r = 0; r < mask.rows; ++r) {
+    const auto* row = mask.ptr<std::uint8_t>(r);
+    for (int c = 0; c < mask.cols; ++c) {
+      out->unsetLabel(r, c, static_cast<std::uint8_t>(index));
+      if (row[c]) out->setLabel(r, c, static_cast<std::uint8_t>(index));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+mrpt::obs::TPixelLabelInfoBase::Ptr withLabel(const mrpt::obs::TPixelLabelInfoBase::Ptr& labels, const cv::Mat& mask,
+                                              const std::string& name) {
+  if (!labels) {
+    auto out = std::make_shared<Labels<1>>();
+    out->setSize(mask.rows, mask.cols);
+    return write<1>(out, mask, 0, name);
+  }
+  // The narrowest width, no narrower than the input's, with an index for the label.
+  for (unsigned bytes : {1u, 2u, 4u, 8u}) {
+    if (bytes < labels->BITFIELD_BYTES) continue;
+    const auto index = indexFor(*labels, name, bytes);
+    if (!index) continue;
+    switch (bytes) {
+      case 1: return write<1>(widened<1>(*labels), mask, *index, name);
+      case 2: return write<2>(widened<2>(*labels), mask, *index, name);
+      case 4: return write<4>(widened<4>(*labels), mask, *index, name);
+      default: return write<8>(widened<8>(*labels), mask, *index, name);
+    }
+  }
+  throw std::runtime_error("pixel labels already hold 64 labels, none named '" + name + "'");
+}
+
+}  // namespace gmc::filters
