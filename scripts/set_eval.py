@@ -17,7 +17,7 @@ Generated sequences are 300 frames (config/sim/<scenario>.ini, --seed), made onc
 skipped with a message. Each run is gmc-rgbd-mapping without the map, then gmc-eval.
 
   scripts/set_eval.py run out/sets/base.json --sets choice,bonn [--set Section.key=value]
-      [--random-seeds N] [--bin build/bin] [--jobs 2]
+      [--set-generated Section.key=value] [--random-seeds N] [--bin build/bin] [--jobs 2]
   scripts/set_eval.py compare out/sets/base.json out/sets/new.json
 
 With --random-seeds N every run is repeated with [Odometry] random_seed = 0 .. N-1 (other,
@@ -102,7 +102,9 @@ def run(args):
 
     def one(item):
         (set_name, (name, config, folder, first, count)), random_seed = item
-        window_args = argparse.Namespace(bin=args.bin, config=config, set=args.set)
+        generated_run = os.path.abspath(folder).startswith(os.path.abspath(args.data))
+        window_args = argparse.Namespace(bin=args.bin, config=config,
+                                         set=args.set + (args.set_generated if generated_run else []))
         with tempfile.TemporaryDirectory() as tmp:
             ate, still, summary = run_window(window_args, folder, first, count, tmp, random_seed)
         print('%-7s %-28s seed %d: %.4f (standing still %.4f, lost %d)' % (
@@ -118,7 +120,7 @@ def run(args):
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
     tmp = args.out + '.tmp'
     with open(tmp, 'w') as f:
-        json.dump({'set': args.set, 'random_seeds': args.random_seeds, 'runs': report}, f, indent=1)
+        json.dump({'set': args.set, 'set_generated': args.set_generated, 'random_seeds': args.random_seeds, 'runs': report}, f, indent=1)
     os.replace(tmp, args.out)
 
 
@@ -198,6 +200,9 @@ def main():
     r.add_argument('--data', default='out/seeds', help='generated sequences, made once and reused')
     r.add_argument('--shared', default=os.environ.get('GMC_DATA_DIR', '../shared/data'))
     r.add_argument('--set', action='append', default=[], help='Section.key=value for every run')
+    r.add_argument('--set-generated', action='append', default=[],
+                   help='Section.key=value for the generated runs only (e.g. Dataset.label_masks=masks: the '
+                        "generator's people as known dynamic pixels, with GmcFilter.known_dynamic_labels=person)")
     r.add_argument('--random-seeds', type=int, default=1,
                    help='runs per entry, [Odometry] random_seed 0..N-1; the figure is their median')
     r.add_argument('--jobs', type=int, default=2)

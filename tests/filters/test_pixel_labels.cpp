@@ -1,15 +1,18 @@
-// The gmc filter's 'dynamic' label joins the labels an observation already carries.
+// Pixel labels: the gmc filter's 'dynamic' label joins the labels an observation already carries.
 #include <gtest/gtest.h>
 
 #include <mrpt/config/CConfigFileMemory.h>
 
 #include "gmc/datasets/rawlog.h"
+#include "gmc/config/ini.h"
+#include "gmc/datasets/pixel_labels.h"
 #include "gmc/filters/filter.h"
-#include "gmc/filters/pixel_labels.h"
 
 namespace {
 
 using namespace gmc::filters;
+using gmc::datasets::withLabel;
+using gmc::datasets::pixelsLabelled;
 using mrpt::obs::TPixelLabelInfo;
 
 /// A 6x4 mask with the given pixels set.
@@ -92,13 +95,18 @@ TEST(PixelLabels, SizeMismatchAndSixtyFourLabelsAreErrors) {
   }
 }
 
-TEST(PixelLabels, TheGmcFilterKeepsTheLabelsAnObservationCarries) {
+/// A 64x48 frame of a flat wall 2 m away.
+gmc::datasets::RgbdFrame wallFrame() {
   gmc::datasets::RgbdFrame f;
   f.stamp = 1;
   f.rgb = cv::Mat(48, 64, CV_8UC3, cv::Scalar(10, 20, 30));
   f.depth = cv::Mat(48, 64, CV_16UC1, cv::Scalar(10000));
   f.camera.fx = f.camera.fy = 50, f.camera.cx = 32, f.camera.cy = 24;
-  auto obs = gmc::datasets::toObservation(f);
+  return f;
+}
+
+TEST(PixelLabels, TheGmcFilterKeepsTheLabelsAnObservationCarries) {
+  auto obs = gmc::datasets::toObservation(wallFrame());
   auto floor = std::make_shared<TPixelLabelInfo<1>>();
   floor->setSize(48, 64);
   floor->setLabelName(0, "floor");
@@ -111,6 +119,31 @@ TEST(PixelLabels, TheGmcFilterKeepsTheLabelsAnObservationCarries) {
   EXPECT_EQ(indexOf(*obs->pixelLabels, "floor"), 0);
   EXPECT_EQ(indexOf(*obs->pixelLabels, kDynamicLabel), 1);
   for (int c = 0; c < 64; ++c) EXPECT_TRUE(obs->pixelLabels->checkLabel(47, c, 0)) << c;
+}
+
+// [GmcFilter] known_dynamic_labels: pixels an earlier stage labelled (here "person", the
+// left third) are dynamic in the filter's mask and for the odometry.
+TEST(PixelLabels, KnownDynamicLabelsJoinTheDynamicMask) {
+  gmc::datasets::RgbdFrame f = wallFrame();
+  cv::Mat person = cv::Mat::zeros(48, 64, CV_8UC1);
+  person.colRange(0, 20).setTo(255);
+  f.pixel_labels.emplace_back("person", person);
+  auto run = [&](const std::string& ini) {
+    auto obs = gmc::datasets::observationOf(f);
+    auto chain = buildChain(mrpt::config::CConfigFileMemory(ini), "t.ini");
+    FilterContext ctx;
+    EXPECT_TRUE(applyChain(chain, *obs, ctx));
+    return cv::countNonZero(ctx.dynamic_mask(cv::Rect(0, 0, 20, 48)));
+  };
+  EXPECT_EQ(run("[Filters]\nchain = gmc\n[GmcFilter]\nknown_dynamic_labels = chair, person\n"), 20 * 48);
+  EXPECT_EQ(run("[Filters]\nchain = gmc\n"), 0) << "not named: not known";
+  try {
+    buildChain(mrpt::config::CConfigFileMemory("[Filters]\nchain = gmc\n[GmcFilter]\nknown_dynamic_labels = person,,chair\n"),
+               "t.ini");
+    FAIL();
+  } catch (const gmc::cfg::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("known_dynamic_labels"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

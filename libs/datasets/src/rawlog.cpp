@@ -1,4 +1,5 @@
 #include "gmc/datasets/rawlog.h"
+#include "gmc/datasets/pixel_labels.h"
 
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileGZOutputStream.h>
@@ -54,6 +55,7 @@ mrpt::obs::CObservation3DRangeScan::Ptr toObservation(const RgbdFrame& frame,
   obs->cameraParamsIntensity = cam;  // registered pair: same intrinsics, same centre
   obs->range_is_depth = true;
   obs->rangeUnits = static_cast<float>(frame.depth_units);
+  for (const auto& [name, mask] : frame.pixel_labels) obs->pixelLabels = withLabel(obs->pixelLabels, mask, name);
   obs->hasRangeImage = true;
   obs->rangeImage.resize(frame.depth.rows, frame.depth.cols);
   for (int r = 0; r < frame.depth.rows; ++r) {

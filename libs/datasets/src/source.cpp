@@ -119,8 +119,11 @@ class RawlogSource : public RgbdSource {
 
 class TumFolderSource : public RgbdSource {
  public:
-  TumFolderSource(const std::string& dir, const PinholeCamera& camera, const LensDistortion& distortion)
-      : dir_(dir), camera_(camera), pairs_(pairTumFolder(dir).pairs) {
+  TumFolderSource(const std::string& dir, const PinholeCamera& camera, const LensDistortion& distortion,
+                  const LabelMasks& label_masks)
+      : dir_(dir), camera_(camera), label_masks_(label_masks), pairs_(pairTumFolder(dir).pairs) {
+    if (!label_masks_.folder.empty() && !distortion.none())
+      throw InputError(dir + ": [Dataset] label_masks need undistort = none (masks are not undistorted)");
     if (!distortion.none()) undistorter_.emplace(camera, distortion);
     if (pairs_.empty())
       throw InputError(dir + ": no RGB frame has a depth frame within 0.02 s");
@@ -150,6 +153,18 @@ class TumFolderSource : public RgbdSource {
     frame.camera.width = frame.rgb.cols;
     frame.camera.height = frame.rgb.rows;
     frame.name = rgb.path;
+    frame.pixel_labels.clear();
+    if (!label_masks_.folder.empty()) {
+      const std::string mask_path =
+          (fs::path(dir_) / label_masks_.folder / fs::path(rgb.path).filename()).string();
+      cv::Mat mask = cv::imread(mask_path, cv::IMREAD_GRAYSCALE);
+      if (mask.empty()) throw FrameReadError(mask_path + ": missing or unreadable label mask");
+      if (mask.size() != frame.rgb.size())
+        throw FrameReadError(mask_path + ": label mask is " + std::to_string(mask.cols) + "x" +
+                             std::to_string(mask.rows) + ", RGB is " + std::to_string(frame.rgb.cols) + "x" +
+                             std::to_string(frame.rgb.rows));
+      frame.pixel_labels.emplace_back(label_masks_.label, mask);
+    }
     if (undistorter_) undistorter_->apply(frame);
     return true;
   }
@@ -158,6 +173,7 @@ class TumFolderSource : public RgbdSource {
  private:
   std::string dir_;
   PinholeCamera camera_;
+  LabelMasks label_masks_;
   std::vector<std::pair<TumListEntry, TumListEntry>> pairs_;
   std::optional<Undistorter> undistorter_;
   size_t index_ = 0;
@@ -166,9 +182,13 @@ class TumFolderSource : public RgbdSource {
 }  // namespace
 
 std::unique_ptr<RgbdSource> openRgbdSource(const std::string& path, const PinholeCamera& camera,
-                                           const SensorSelection& sensors, const LensDistortion& distortion) {
-  if (fs::is_directory(path)) return std::make_unique<TumFolderSource>(path, camera, distortion);
+                                           const SensorSelection& sensors, const LensDistortion& distortion,
+                                           const LabelMasks& label_masks) {
+  if (fs::is_directory(path)) return std::make_unique<TumFolderSource>(path, camera, distortion, label_masks);
   if (!fs::exists(path)) throw InputError(path + ": no such file or folder");
+  if (!label_masks.folder.empty())
+    throw InputError(path + ": [Dataset] label_masks applies to TUM folders (a rawlog's scans carry their own "
+                            "pixelLabels)");
   return std::make_unique<RawlogSource>(path, sensors);
 }
 

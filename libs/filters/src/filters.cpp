@@ -2,13 +2,14 @@
 
 #include <chrono>
 #include <algorithm>
+#include <sstream>
 #include <stdexcept>
 
 #include "gmc/config/ini.h"
 #include "gmc/datasets/rawlog.h"
 #include "gmc/datasets/rawlog_stream.h"
 #include "gmc/filters/gmc_filter.h"
-#include "gmc/filters/pixel_labels.h"
+#include "gmc/datasets/pixel_labels.h"
 
 namespace gmc::filters {
 namespace {
@@ -20,6 +21,23 @@ std::map<std::string, FilterFactory>& registry() {
       {"decimate", [] { return std::make_unique<DecimateFilter>(); }},
   };
   return r;
+}
+
+/// "person, chair" -> {"person", "chair"}; an empty name between commas is an error.
+std::vector<std::string> splitLabelNames(const std::string& text, const std::string& source,
+                                         const std::string& section) {
+  std::vector<std::string> names;
+  if (text.find_first_not_of(" \t") == std::string::npos) return names;
+  std::stringstream in(text);
+  std::string name;
+  while (std::getline(in, name, ',')) {
+    name.erase(0, name.find_first_not_of(" \t"));
+    name.erase(name.find_last_not_of(" \t") + 1);
+    if (name.empty())
+      throw cfg::ConfigError(source + ": [" + section + "] known_dynamic_labels: empty label name in '" + text + "'");
+    names.push_back(name);
+  }
+  return names;
 }
 
 /// One chain entry: "name" or "name@Section".
@@ -163,6 +181,7 @@ std::vector<std::string> GmcFilter::sections(const std::string& section) const {
 void GmcFilter::initialize(const mrpt::config::CConfigFileBase& ini, const std::string& section,
                            const std::string& source) {
   cfg::loadSection(ini, section, options_, source);
+  known_dynamic_labels_ = splitLabelNames(options_.known_dynamic_labels, source, section);
   cfg::loadSection(ini, "Frontend", odometry_config_.frontend, source);
   cfg::loadSection(ini, "GMS", odometry_config_.gms, source);
   cfg::loadSection(ini, "GMC", odometry_config_.gmc, source);
@@ -213,11 +232,21 @@ bool GmcFilter::filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& c
     cv::cvtColor(frame.rgb, gray, cv::COLOR_BGR2GRAY);
   else
     gray = frame.rgb;
+  cv::Mat known_dynamic;
+  if (!known_dynamic_labels_.empty()) {
+    try {
+      known_dynamic = datasets::pixelsLabelled(obs.pixelLabels, known_dynamic_labels_, gray.rows, gray.cols);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error("frame " + std::to_string(context.frame_index) + ": " + e.what());
+    }
+  }
   auto& tracking = context.products[kTracking] =
-      odometry_->process(gray, frame.depth, frame.depth_units, frame.camera, frame.stamp);
+      odometry_->process(gray, frame.depth, frame.depth_units, frame.camera, frame.stamp, known_dynamic);
   auto& result = std::any_cast<vo::FrameTracking&>(tracking);
   const auto mask_start = std::chrono::steady_clock::now();
   context.dynamic_mask = mask_builder_->build(result, frame.depth, frame.depth_units, frame.camera);
+  if (!known_dynamic.empty())
+    context.dynamic_mask = context.dynamic_mask.empty() ? known_dynamic : (context.dynamic_mask | known_dynamic);
   odometry_->distrustMaskedLandmarks(context.dynamic_mask);
   result.times.mask =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - mask_start).count();
@@ -226,7 +255,7 @@ bool GmcFilter::filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& c
   if (options_.write_pixel_labels) {
     // Labels the observation already carries (a recording's, an earlier stage's) stay.
     try {
-      obs.pixelLabels = withLabel(obs.pixelLabels, mask, kDynamicLabel);
+      obs.pixelLabels = datasets::withLabel(obs.pixelLabels, mask, kDynamicLabel);
     } catch (const std::runtime_error& e) {
       throw std::runtime_error("frame " + std::to_string(context.frame_index) + ": " + e.what());
     }

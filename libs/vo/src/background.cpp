@@ -8,6 +8,16 @@ namespace gmc::vo {
 
 namespace {
 
+/// Matches known to lie on moving objects are dynamic whatever GMC makes of them.
+void labelKnownDynamic(const MatchTrust& trust, GmcResult& result) {
+  for (size_t i = 0; i < trust.known_dynamic.size(); ++i) {
+    if (!trust.known_dynamic[i] || result.labels[i] == MotionLabel::Dynamic) continue;
+    (result.labels[i] == MotionLabel::Static ? result.num_static : result.num_undecided) -= 1;
+    ++result.num_dynamic;
+    result.labels[i] = MotionLabel::Dynamic;
+  }
+}
+
 template <class Points>
 bool fitRigidPoints(const Points& src, const Points& dst, Isometry& T) {
   if (src.cols() < 3) return false;
@@ -185,6 +195,7 @@ void BackgroundSelector::select(const std::vector<MotionMatch>& matches, const M
     for (size_t k = 0; k < c; ++k) seen = seen || similar(candidates[k].T, candidates[c].T);
     if (seen) continue;
     gmc_.classify(matches, candidates[c].T, context.image_width, context.image_height, scratch_);
+    labelKnownDynamic(trust, scratch_);
     // Evidence counts the static matches the hypothesis explains: when no cluster sits at
     // zero motion GMC falls back to the largest one, which the hypothesis does not explain.
     double evidence = 0;

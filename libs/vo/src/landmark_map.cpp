@@ -26,7 +26,7 @@ size_t LandmarkMap::numAlive() const {
 
 Evidence LandmarkMap::evidence(int id, double stamp) const {
   const Landmark& l = landmarks_[static_cast<size_t>(id)];
-  if (!l.alive || stamp < l.suspect_until) return Evidence::Suspect;
+  if (!l.alive || l.known_dynamic || stamp < l.suspect_until) return Evidence::Suspect;
   const bool long_enough = l.last_seen_in_place - l.evidence_since >= options_.static_seconds;
   return long_enough && l.hits_in_place >= options_.static_min_hits ? Evidence::Static : Evidence::Young;
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <stdexcept>
 
 namespace gmc::vo {
 namespace {
@@ -113,7 +114,7 @@ bool RgbdOdometry::standStillWhileLost() const {
 
 // ------------------------------------------------------------------ the recipe
 FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, double depth_units,
-                                    const PinholeCamera& camera, double stamp) {
+                                    const PinholeCamera& camera, double stamp, const cv::Mat& known_dynamic) {
   const auto t_start = Clock::now();
   maskable_.clear();
   FrameTracking out;
@@ -121,6 +122,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   out.frame_number = ++frame_number_;
   features::FeatureSet cur = frontend_.extract(gray, depth, depth_units, camera);
   out.num_features = static_cast<int>(cur.size());
+  markKnownDynamic(cur, known_dynamic);
   for (const auto& kp : cur.keypoints) out.keypoints.push_back(kp.pt);
   out.keypoint_labels.assign(cur.size(), MotionLabel::Undecided);
   out.keypoint_in_pose.assign(cur.size(), 0);
@@ -377,6 +379,26 @@ void RgbdOdometry::rememberTrackedFrame(const FrameTracking& out) {
       pose_landmarks_.push_back(track_.landmark[k]);
 }
 
+void RgbdOdometry::markKnownDynamic(const features::FeatureSet& cur, const cv::Mat& known_dynamic) {
+  known_dynamic_.assign(cur.size(), 0);
+  if (known_dynamic.empty()) return;
+  if (known_dynamic.type() != CV_8UC1 || known_dynamic.cols != cur.width || known_dynamic.rows != cur.height)
+    throw std::invalid_argument("known dynamic mask must be CV_8UC1 of the image's size");
+  // A corner on an object's outline belongs to it or to what is behind: 2 px of margin
+  // (the generator's masks end at the silhouette; a segmenter's are no sharper).
+  constexpr int kMargin = 2;
+  for (size_t i = 0; i < cur.size(); ++i) {
+    const int u = static_cast<int>(std::lround(cur.keypoints[i].pt.x));
+    const int v = static_cast<int>(std::lround(cur.keypoints[i].pt.y));
+    for (int y = std::max(0, v - kMargin); y <= std::min(known_dynamic.rows - 1, v + kMargin) && !known_dynamic_[i]; ++y)
+      for (int x = std::max(0, u - kMargin); x <= std::min(known_dynamic.cols - 1, u + kMargin); ++x)
+        if (known_dynamic.at<std::uint8_t>(y, x)) {
+          known_dynamic_[i] = 1;
+          break;
+        }
+  }
+}
+
 void RgbdOdometry::matchPreviousFrame(const features::FeatureSet& cur, const Isometry& T_world_pred,
                                       const PinholeCamera& camera) {
   // Frame-to-frame matches (guided by the prediction) carry remembered dynamic labels
@@ -415,6 +437,7 @@ void RgbdOdometry::matchToMap(const features::FeatureSet& cur, const Isometry& T
   track.landmark.clear();
   track.trust.weight.clear();
   track.trust.established.clear();
+  track.trust.known_dynamic.clear();
   track.matched.assign(cur.size(), 0);
   for (const auto& m : matches) {
     track.matched[static_cast<size_t>(m.cur)] = 1;
@@ -423,10 +446,13 @@ void RgbdOdometry::matchToMap(const features::FeatureSet& cur, const Isometry& T
     track.motion.push_back(motionMatch(ref, cur, m));
     track.cur_index.push_back(m.cur);
     track.landmark.push_back(id);
-    // A keypoint remembered as a walker is not trusted whatever its landmark says.
-    const bool remembered = memory_[static_cast<size_t>(m.cur)] > 0;
-    track.trust.weight.push_back(remembered ? 0.0 : map_.weight(id, stamp));
-    track.trust.established.push_back(!remembered && map_.evidence(id, stamp) == Evidence::Static);
+    // A keypoint remembered as a walker, or known to lie on one, is not trusted whatever
+    // its landmark says.
+    const bool known = known_dynamic_[static_cast<size_t>(m.cur)] || map_[id].known_dynamic;
+    const bool distrusted = known || memory_[static_cast<size_t>(m.cur)] > 0;
+    track.trust.weight.push_back(distrusted ? 0.0 : map_.weight(id, stamp));
+    track.trust.established.push_back(!distrusted && map_.evidence(id, stamp) == Evidence::Static);
+    track.trust.known_dynamic.push_back(known);
   }
 }
 
@@ -719,6 +745,7 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
   for (const auto& [feature, id] : map_.addFeatures(cur, track_.matched, labels, out.T_world_camera,
                                                     stamp, keyframe_count_)) {
     const auto& kp = cur.keypoints[static_cast<size_t>(feature)].pt;
+    if (known_dynamic_[static_cast<size_t>(feature)]) map_.markKnownDynamic(id);
     kf.observations.push_back({0, id, Eigen::Vector2d(kp.x, kp.y), cur.points[static_cast<size_t>(feature)].z()});
     if (maskable && cur.points[static_cast<size_t>(feature)].z() < masked_in_front_of) maskable_.emplace_back(id, kp);
   }

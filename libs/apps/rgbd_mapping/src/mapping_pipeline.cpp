@@ -16,7 +16,8 @@ FrameReader::FrameReader(Options options, const std::atomic<bool>& stop, Clock::
     : options_(std::move(options)),
       stop_(stop),
       start_(start),
-      source_(datasets::openRgbdSource(options_.input, options_.camera, options_.sensors, options_.distortion)),
+      source_(datasets::openRgbdSource(options_.input, options_.camera, options_.sensors, options_.distortion,
+                                                 options_.label_masks)),
       depth_bias_(options_.depth_radial_bias),
       size_hint_(source_->sizeHint()),
       queue_(options_.queue_capacity) {
@@ -102,7 +103,8 @@ bool FrameReader::readNext(SourceFrame& out) {
       stamp_shift_ += last_stamp_ - pass_first_stamp_ + frame_interval_;
       pass_first_stamp_ = -1;
       // Later passes are the same recording again: their objects are not passed on twice.
-      source_ = datasets::openRgbdSource(options_.input, options_.camera, options_.sensors, options_.distortion);
+      source_ = datasets::openRgbdSource(options_.input, options_.camera, options_.sensors, options_.distortion,
+                                                 options_.label_masks);
       continue;
     }
     if (!have) return false;

@@ -37,7 +37,7 @@ int RawlogFilterApp::run() {
   filters::FilterChain first_chain = filters::buildChain(ini, config_);
   datasets::SensorSelection sensors = config.sensors;
   sensors.single_camera = false;  // every selected camera is filtered
-  auto source = datasets::openRgbdSource(input_, config.camera, sensors, config.distortion);
+  auto source = datasets::openRgbdSource(input_, config.camera, sensors, config.distortion, config.label_masks);
   datasets::RawlogWriter writer(output_);
   source->setObjectSink(&writer);  // every object passes on, in order
   size_t read = 0, skipped = 0, dropped = 0;

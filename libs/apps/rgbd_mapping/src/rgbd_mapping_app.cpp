@@ -75,6 +75,7 @@ PipelineConfig loadPipelineConfig(const mrpt::config::CConfigFileBase& ini, cons
   c.sensors.labels = datasets::splitList(filters::loadChainOptions(ini, source).sensor_label);
   c.sensors.single_camera = true;
   if (c.dataset.undistort == "auto") c.distortion = datasets::presetDistortion(c.dataset.camera);
+  c.label_masks = {c.dataset.label_masks, c.dataset.label_masks_name};
   return c;
 }
 
@@ -166,7 +167,8 @@ MappingRun::MappingRun(const PipelineConfig& config, filters::FilterChain chain,
       realtime_(config.playback.mode == "realtime"),
       reader_({input, config.camera, config.dataset.repeat, config.dataset.first_frame, realtime_,
                config.playback.rate, static_cast<std::size_t>(config.playback.frame_queue), config.sensors,
-               config.distortion, config.dataset.depth_radial_bias, config.output.filtered_rawlog},
+               config.distortion, config.dataset.depth_radial_bias, config.output.filtered_rawlog,
+               config.label_masks},
               stop, start_) {
   namespace fs = std::filesystem;
   if (!gt_path_.empty()) groundtruth_ = datasets::readGroundTruth(gt_path_, config.dataset.groundtruth_frame);

@@ -5,6 +5,8 @@
 
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "gmc/gmc/types.h"
 
@@ -24,6 +26,9 @@ struct RgbdFrame {
   /// The rawlog's own observation (null for folders): filters change it in place, so a
   /// writer passes on every other field unchanged (see observationOf()).
   mrpt::obs::CObservation3DRangeScan::Ptr observation;
+  /// Pixel labels read with a folder's frame (label name, CV_8UC1 mask non-zero where it
+  /// applies; [Dataset] label_masks): the observation made of the frame carries them.
+  std::vector<std::pair<std::string, cv::Mat>> pixel_labels;
 
   double depthAt(int u, int v) const { return depth.at<std::uint16_t>(v, u) * depth_units; }
 };

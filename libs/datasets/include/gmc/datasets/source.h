@@ -44,8 +44,20 @@ class RgbdSource {
 /// scan is an InputError when its end is reached. `distortion` (TUM folders): the lens
 /// distortion of `camera`, removed from every frame (see Undistorter); rawlog frames are
 /// used as recorded.
+/// Per-frame masks stored next to a TUM folder's images ([Dataset] label_masks): frame
+/// rgb/<name>.png has <folder>/<name>.png (CV_8UC1, non-zero where `label` applies, e.g.
+/// the generator's person masks), given to the frame as a pixel label.
+struct LabelMasks {
+  std::string folder;            ///< relative to the input folder; empty = none
+  std::string label = "person";  ///< the pixel label's name
+};
+
+/// `label_masks` (TUM folders only; an InputError for a rawlog, whose scans carry their
+/// own pixelLabels): a missing or unreadable mask, or one sized unlike the image, is a
+/// FrameReadError naming the file.
 std::unique_ptr<RgbdSource> openRgbdSource(const std::string& path, const PinholeCamera& camera,
                                            const SensorSelection& sensors = {},
-                                           const LensDistortion& distortion = {});
+                                           const LensDistortion& distortion = {},
+                                           const LabelMasks& label_masks = {});
 
 }  // namespace gmc::datasets

@@ -12,11 +12,18 @@ namespace gmc::filters {
 struct GmcFilterOptions {
   bool write_pixel_labels = true;   ///< pixelLabels with a label named "dynamic"
   bool zero_dynamic_depth = false;  ///< set dynamic pixels' range to 0 (no reading)
+  /// Pixel labels the incoming scan may carry that mark moving objects (comma-separated
+  /// names, e.g. "person" from a segmenter, or [Dataset] label_masks): known dynamic for
+  /// the odometry and the mask. Empty = none.
+  std::string known_dynamic_labels;
 
   template <class V>
   void visit(V& v) {
     v("write_pixel_labels", write_pixel_labels, "write MRPT pixelLabels with label 'dynamic'");
     v("zero_dynamic_depth", zero_dynamic_depth, "remove the depth of dynamic pixels");
+    v("known_dynamic_labels", known_dynamic_labels,
+      "pixel labels of the incoming scans that mark moving objects (comma-separated names; empty = none): "
+      "their pixels are dynamic for the odometry and the mask (doc/odometry.md, known dynamic pixels)");
   }
 };
 
@@ -39,6 +46,7 @@ class GmcFilter : public ObservationFilter {
 
  private:
   GmcFilterOptions options_;
+  std::vector<std::string> known_dynamic_labels_;  ///< options_.known_dynamic_labels, split
   vo::OdometryConfig odometry_config_;
   vo::DynamicMaskOptions mask_options_;
   std::unique_ptr<vo::RgbdOdometry> odometry_;

@@ -95,11 +95,14 @@ Isometry ransacRigid(const std::vector<int>& pool, int iterations, Xorshift64& r
                      const std::function<Eigen::Vector3d(int)>& src, const std::function<Eigen::Vector3d(int)>& dst,
                      const std::function<double(const Isometry&)>& score, const Isometry& fallback);
 
-/// Per match: how far its landmark is trusted (0 suspect .. 1 static evidence), and
-/// whether it has static evidence.
+/// Per match: how far its landmark is trusted (0 suspect .. 1 static evidence), whether
+/// it has static evidence, and whether it is known to be on a moving object (given from
+/// outside, e.g. a person segmenter's pixel labels: labelled dynamic under every
+/// hypothesis; empty = none known).
 struct MatchTrust {
   std::vector<double> weight;
   std::vector<std::uint8_t> established;
+  std::vector<std::uint8_t> known_dynamic;
 };
 
 struct BackgroundChoice {

@@ -69,6 +69,7 @@ struct Landmark {
   Eigen::Vector3d origin_point = Eigen::Vector3d::Zero();
   double origin_stamp = 0;
   bool alive = true;
+  bool known_dynamic = false;    ///< placed on a pixel given as known dynamic: never trusted
 };
 
 /// One match of a frame against the map, as the evidence update needs it.
@@ -101,6 +102,8 @@ class LandmarkMap {
   size_t size() const { return landmarks_.size(); }  ///< including dropped slots
   size_t numAlive() const;
   const Landmark& operator[](int id) const { return landmarks_[static_cast<size_t>(id)]; }
+  /// The landmark lies on a moving object by outside knowledge: suspect for good.
+  void markKnownDynamic(int id) { landmarks_[static_cast<size_t>(id)].known_dynamic = true; }
 
   Evidence evidence(int id, double stamp) const;
   /// Trust used to weigh a match: 0 suspect, young_weight young, 1 static.

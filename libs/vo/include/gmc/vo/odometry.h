@@ -223,9 +223,13 @@ class RgbdOdometry {
   const OdometryConfig& config() const { return config_; }
   const LandmarkMap& landmarks() const { return map_; }
 
-  /// gray: CV_8UC1; depth: CV_16UC1 raw units.
+  /// gray: CV_8UC1; depth: CV_16UC1 raw units. known_dynamic (optional, CV_8UC1, the
+  /// image's size): non-zero pixels are known to show moving objects (a person
+  /// segmenter's output, or a simulator's truth): their matches are dynamic under every
+  /// hypothesis and the landmarks placed on them are never trusted (doc/odometry.md,
+  /// "Known dynamic pixels").
   FrameTracking process(const cv::Mat& gray, const cv::Mat& depth, double depth_units,
-                        const PinholeCamera& camera, double stamp);
+                        const PinholeCamera& camera, double stamp, const cv::Mat& known_dynamic = cv::Mat());
 
   /// The last processed frame's dynamic mask (CV_8UC1, non-zero = dynamic, pixels as the
   /// image's), built after process() from its result (DynamicMaskBuilder): a landmark the
@@ -251,6 +255,8 @@ class RgbdOdometry {
     std::vector<WindowObservation> observations;  ///< keyframe field unused; landmark = map id
   };
 
+  /// known_dynamic_ for the frame's keypoints (2 px margin); throws on a wrong mask.
+  void markKnownDynamic(const features::FeatureSet& cur, const cv::Mat& known_dynamic);
   void initialize(features::FeatureSet&& cur, double stamp, FrameTracking& out);
   void bridgeLostFrames(FrameTracking& out);
   /// The pose smoothing_frames back, fitted over the tracked frames around it (a revision).
@@ -307,6 +313,7 @@ class RgbdOdometry {
   StartConsensus consensus_;
   int map_first_keyframe_ = 0;          ///< keyframe_count_ of the current map's first keyframe
   RevisedPose consensus_start_;         ///< and its frame (a taken consensus bridges from it)
+  std::vector<std::uint8_t> known_dynamic_;  ///< per current keypoint: on a known dynamic pixel
   MapTrack track_;                      ///< reused per frame
   BackgroundChoice choice_;             ///< reused per frame
   features::FeatureSet previous_;       ///< last frame's features (shared descriptor data)

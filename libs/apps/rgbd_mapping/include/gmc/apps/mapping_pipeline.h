@@ -78,6 +78,7 @@ class FrameReader {
     datasets::LensDistortion distortion;  ///< removed from TUM folders' frames
     double depth_radial_bias = 0;        ///< removed from every frame's depth (undistort.h)
     bool pass_objects = false;           ///< keep every rawlog object for takeObjectsUpTo()
+    datasets::LabelMasks label_masks;    ///< per-frame pixel labels of TUM folders
   };
   /// A rawlog object read, tagged with the index of the frame read after it.
   struct PassedObject {

@@ -10,6 +10,7 @@
 #include "gmc/datasets/camera.h"
 #include "gmc/datasets/frame.h"
 #include "gmc/datasets/rawlog_stream.h"
+#include "gmc/datasets/source.h"
 #include "gmc/mapping/static_map.h"
 
 #include <mrpt/config/CConfigFileBase.h>
@@ -29,6 +30,8 @@ struct DatasetOptions {
   double depth_radial_bias = 0;    ///< k of a depth read as z (1 + k r^2), divided back out
   int repeat = 1;              ///< play the input this many times (long-run tests); later
                                ///< passes get stamps shifted past the previous pass
+  std::string label_masks;     ///< folder of per-frame masks given as a pixel label (TUM folders)
+  std::string label_masks_name = "person";  ///< ... that label's name
 
   template <class V>
   void visit(V& v) {
@@ -50,6 +53,11 @@ struct DatasetOptions {
     v("anchor_to_groundtruth", anchor_to_groundtruth,
       "start the trajectory at the first ground-truth pose (maps comparable with ground truth)");
     v("repeat", repeat, 1, 1000000, "play the input this many times (stamps shifted per pass)");
+    v("label_masks", label_masks,
+      "folder of the input (TUM layout) with one mask per frame, named as its RGB image, given to the scan as the "
+      "pixel label label_masks_name (e.g. the generator's masks; empty = none)");
+    v("label_masks_name", label_masks_name,
+      "name of that pixel label ([GmcFilter] known_dynamic_labels can make it known dynamic)");
   }
 };
 
@@ -106,6 +114,8 @@ struct PipelineConfig {
   datasets::SensorSelection sensors;
   /// From [Dataset] undistort and camera: removed from frames of TUM folders.
   datasets::LensDistortion distortion;
+  /// From [Dataset] label_masks and label_masks_name.
+  datasets::LabelMasks label_masks;
 };
 /// Throws cfg::ConfigError naming the file, section and key; also rejects sections that
 /// neither the apps nor the filters read.

@@ -6,8 +6,9 @@
 #include <opencv2/core.hpp>
 
 #include <string>
+#include <vector>
 
-namespace gmc::filters {
+namespace gmc::datasets {
 
 /// A copy of `labels` (null: none yet) where the label `name` is set exactly on the
 /// non-zero pixels of `mask` (CV_8UC1) and every other label is kept as it was. The label
@@ -18,4 +19,10 @@ namespace gmc::filters {
 mrpt::obs::TPixelLabelInfoBase::Ptr withLabel(const mrpt::obs::TPixelLabelInfoBase::Ptr& labels, const cv::Mat& mask,
                                               const std::string& name);
 
-}  // namespace gmc::filters
+/// CV_8UC1 of rows x cols, 255 where a pixel carries any label named in `names` (zeros
+/// when `labels` is null or defines none of them). Throws std::runtime_error when the
+/// labels' size differs.
+cv::Mat pixelsLabelled(const mrpt::obs::TPixelLabelInfoBase::Ptr& labels, const std::vector<std::string>& names,
+                       int rows, int cols);
+
+}  // namespace gmc::datasets

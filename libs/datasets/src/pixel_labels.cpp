@@ -1,9 +1,10 @@
-#include "gmc/filters/pixel_labels.h"
+#include "gmc/datasets/pixel_labels.h"
 
+#include <algorithm>
 #include <optional>
 #include <stdexcept>
 
-namespace gmc::filters {
+namespace gmc::datasets {
 namespace {
 
 template <unsigned B>
@@ -55,7 +56,41 @@ mrpt::obs::TPixelLabelInfoBase::Ptr write(std::shared_ptr<Labels<B>> out, const 
   return out;
 }
 
+/// Rows and columns of a label matrix of any width.
+cv::Size sizeOf(const mrpt::obs::TPixelLabelInfoBase& labels) {
+  auto size = [](const auto& l) {
+    return cv::Size(static_cast<int>(l.pixelLabels.cols()), static_cast<int>(l.pixelLabels.rows()));
+  };
+  if (auto* p1 = dynamic_cast<const Labels<1>*>(&labels)) return size(*p1);
+  if (auto* p2 = dynamic_cast<const Labels<2>*>(&labels)) return size(*p2);
+  if (auto* p4 = dynamic_cast<const Labels<4>*>(&labels)) return size(*p4);
+  if (auto* p8 = dynamic_cast<const Labels<8>*>(&labels)) return size(*p8);
+  throw std::runtime_error("pixel labels of an unknown width (" + std::to_string(labels.BITFIELD_BYTES) + " bytes)");
+}
+
 }  // namespace
+
+cv::Mat pixelsLabelled(const mrpt::obs::TPixelLabelInfoBase::Ptr& labels, const std::vector<std::string>& names,
+                       int rows, int cols) {
+  cv::Mat out = cv::Mat::zeros(rows, cols, CV_8UC1);
+  if (!labels) return out;
+  std::vector<std::uint8_t> indices;
+  for (const auto& [index, label] : labels->pixelLabelNames)
+    if (std::find(names.begin(), names.end(), label) != names.end()) indices.push_back(static_cast<std::uint8_t>(index));
+  if (indices.empty()) return out;
+  if (sizeOf(*labels) != cv::Size(cols, rows))
+    throw std::runtime_error("pixel labels are " + std::to_string(sizeOf(*labels).width) + "x" +
+                             std::to_string(sizeOf(*labels).height) + ", the images " + std::to_string(cols) + "x" +
+                             std::to_string(rows));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c)
+      for (auto index : indices)
+        if (labels->checkLabel(r, c, index)) {
+          out.at<std::uint8_t>(r, c) = 255;
+          break;
+        }
+  return out;
+}
 
 mrpt::obs::TPixelLabelInfoBase::Ptr withLabel(const mrpt::obs::TPixelLabelInfoBase::Ptr& labels, const cv::Mat& mask,
                                               const std::string& name) {
@@ -79,4 +114,4 @@ mrpt::obs::TPixelLabelInfoBase::Ptr withLabel(const mrpt::obs::TPixelLabelInfoBa
   throw std::runtime_error("pixel labels already hold 64 labels, none named '" + name + "'");
 }
 
-}  // namespace gmc::filters
+}  // namespace gmc::datasets
