@@ -10,22 +10,41 @@ namespace {
 template <unsigned B>
 using Labels = mrpt::obs::TPixelLabelInfo<B>;
 
+/// Calls f with `labels` as its concrete width (MRPT's 1, 2, 4 or 8 bytes).
+template <class F>
+decltype(auto) withConcrete(const mrpt::obs::TPixelLabelInfoBase& labels, F&& f) {
+  if (auto* p1 = dynamic_cast<const Labels<1>*>(&labels)) return f(*p1);
+  if (auto* p2 = dynamic_cast<const Labels<2>*>(&labels)) return f(*p2);
+  if (auto* p4 = dynamic_cast<const Labels<4>*>(&labels)) return f(*p4);
+  if (auto* p8 = dynamic_cast<const Labels<8>*>(&labels)) return f(*p8);
+  throw std::runtime_error("pixel labels of an unknown width (" + std::to_string(labels.BITFIELD_BYTES) + " bytes)");
+}
+
+/// Rows and columns of a label matrix of any width.
+cv::Size sizeOf(const mrpt::obs::TPixelLabelInfoBase& labels) {
+  return withConcrete(labels, [](const auto& l) {
+    return cv::Size(static_cast<int>(l.pixelLabels.cols()), static_cast<int>(l.pixelLabels.rows()));
+  });
+}
+
+/// Throws when the labels are not sized as the images.
+void checkSize(const cv::Size& labels, const cv::Size& images) {
+  if (labels != images)
+    throw std::runtime_error("pixel labels are " + std::to_string(labels.width) + "x" + std::to_string(labels.height) +
+                             ", the images " + std::to_string(images.width) + "x" + std::to_string(images.height));
+}
+
 /// The label matrix of `in` as one B bytes wide (B at least as wide as `in`'s).
 template <unsigned B>
 std::shared_ptr<Labels<B>> widened(const mrpt::obs::TPixelLabelInfoBase& in) {
   auto out = std::make_shared<Labels<B>>();
   out->pixelLabelNames = in.pixelLabelNames;
-  auto copy = [&](const auto& src) {
+  withConcrete(in, [&](const auto& src) {
     out->setSize(static_cast<int>(src.pixelLabels.rows()), static_cast<int>(src.pixelLabels.cols()));
     for (int r = 0; r < static_cast<int>(src.pixelLabels.rows()); ++r)
       for (int c = 0; c < static_cast<int>(src.pixelLabels.cols()); ++c)
         out->pixelLabels(r, c) = static_cast<typename Labels<B>::bitmask_t>(src.pixelLabels(r, c));
-  };
-  if (auto* p1 = dynamic_cast<const Labels<1>*>(&in)) copy(*p1);
-  else if (auto* p2 = dynamic_cast<const Labels<2>*>(&in)) copy(*p2);
-  else if (auto* p4 = dynamic_cast<const Labels<4>*>(&in)) copy(*p4);
-  else if (auto* p8 = dynamic_cast<const Labels<8>*>(&in)) copy(*p8);
-  else throw std::runtime_error("pixel labels of an unknown width (" + std::to_string(in.BITFIELD_BYTES) + " bytes)");
+  });
   return out;
 }
 
@@ -41,10 +60,7 @@ std::optional<unsigned> indexFor(const mrpt::obs::TPixelLabelInfoBase& labels, c
 template <unsigned B>
 mrpt::obs::TPixelLabelInfoBase::Ptr write(std::shared_ptr<Labels<B>> out, const cv::Mat& mask, unsigned index,
                                           const std::string& name) {
-  if (out->pixelLabels.rows() != mask.rows || out->pixelLabels.cols() != mask.cols)
-    throw std::runtime_error("pixel labels are " + std::to_string(out->pixelLabels.cols()) + "x" +
-                             std::to_string(out->pixelLabels.rows()) + ", the images " + std::to_string(mask.cols) +
-                             "x" + std::to_string(mask.rows));
+  checkSize(sizeOf(*out), mask.size());
   out->setLabelName(index, name);
   for (int r = 0; r < mask.rows; ++r) {
     const auto* row = mask.ptr<std::uint8_t>(r);
@@ -54,18 +70,6 @@ mrpt::obs::TPixelLabelInfoBase::Ptr write(std::shared_ptr<Labels<B>> out, const 
     }
   }
   return out;
-}
-
-/// Rows and columns of a label matrix of any width.
-cv::Size sizeOf(const mrpt::obs::TPixelLabelInfoBase& labels) {
-  auto size = [](const auto& l) {
-    return cv::Size(static_cast<int>(l.pixelLabels.cols()), static_cast<int>(l.pixelLabels.rows()));
-  };
-  if (auto* p1 = dynamic_cast<const Labels<1>*>(&labels)) return size(*p1);
-  if (auto* p2 = dynamic_cast<const Labels<2>*>(&labels)) return size(*p2);
-  if (auto* p4 = dynamic_cast<const Labels<4>*>(&labels)) return size(*p4);
-  if (auto* p8 = dynamic_cast<const Labels<8>*>(&labels)) return size(*p8);
-  throw std::runtime_error("pixel labels of an unknown width (" + std::to_string(labels.BITFIELD_BYTES) + " bytes)");
 }
 
 }  // namespace
@@ -78,10 +82,7 @@ cv::Mat pixelsLabelled(const mrpt::obs::TPixelLabelInfoBase::Ptr& labels, const 
   for (const auto& [index, label] : labels->pixelLabelNames)
     if (std::find(names.begin(), names.end(), label) != names.end()) indices.push_back(static_cast<std::uint8_t>(index));
   if (indices.empty()) return out;
-  if (sizeOf(*labels) != cv::Size(cols, rows))
-    throw std::runtime_error("pixel labels are " + std::to_string(sizeOf(*labels).width) + "x" +
-                             std::to_string(sizeOf(*labels).height) + ", the images " + std::to_string(cols) + "x" +
-                             std::to_string(rows));
+  checkSize(sizeOf(*labels), cv::Size(cols, rows));
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c)
       for (auto index : indices)
