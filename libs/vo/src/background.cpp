@@ -92,20 +92,42 @@ bool BackgroundSelector::inlier(const MotionMatch& m, const Isometry& T, double 
   return (m.point_ref - T * m.point_cur).squaredNorm() < thr * thr;
 }
 
-double BackgroundSelector::support(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
-                                   const Isometry& T_ref_cur) const {
-  double s = 0;
+void BackgroundSelector::gatherWeighted(const std::vector<MotionMatch>& matches, const std::vector<double>& weight) {
+  std::vector<int> kept;
   for (size_t i = 0; i < matches.size(); ++i)
-    if (weight[i] > 0 && inlier(matches[i], T_ref_cur)) s += weight[i];
+    if (weight[i] > 0) kept.push_back(static_cast<int>(i));
+  weighted_.cur.resize(3, static_cast<Eigen::Index>(kept.size()));
+  weighted_.ref.resize(3, static_cast<Eigen::Index>(kept.size()));
+  weighted_.threshold_sq.resize(kept.size());
+  weighted_.weight.resize(kept.size());
+  for (size_t k = 0; k < kept.size(); ++k) {
+    const MotionMatch& m = matches[static_cast<size_t>(kept[k])];
+    const double z = m.point_cur.z();
+    const double thr = options_.inlier_base + options_.inlier_per_m2 * z * z;  // as inlier() at scale 1
+    weighted_.cur.col(static_cast<Eigen::Index>(k)) = m.point_cur;
+    weighted_.ref.col(static_cast<Eigen::Index>(k)) = m.point_ref;
+    weighted_.threshold_sq[k] = thr * thr;
+    weighted_.weight[k] = weight[static_cast<size_t>(kept[k])];
+  }
+}
+
+double BackgroundSelector::support(const Isometry& T_ref_cur) const {
+  const Eigen::Matrix3d R = T_ref_cur.linear();
+  const Eigen::Vector3d t = T_ref_cur.translation();
+  double s = 0;
+  for (Eigen::Index k = 0; k < weighted_.cur.cols(); ++k) {
+    const Eigen::Vector3d d = weighted_.ref.col(k) - (R * weighted_.cur.col(k) + t);
+    if (d.squaredNorm() < weighted_.threshold_sq[static_cast<size_t>(k)]) s += weighted_.weight[static_cast<size_t>(k)];
+  }
   return s;
 }
 
-Isometry BackgroundSelector::ransac(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
-                                   const std::vector<int>& pool, const Isometry& fallback) {
+Isometry BackgroundSelector::ransac(const std::vector<MotionMatch>& matches, const std::vector<int>& pool,
+                                   const Isometry& fallback) {
   return ransacRigid(
       pool, options_.ransac_iterations, rng_, [&](int i) { return matches[static_cast<size_t>(i)].point_cur; },
       [&](int i) { return matches[static_cast<size_t>(i)].point_ref; },
-      [&](const Isometry& T) { return support(matches, weight, T); }, fallback);
+      [&](const Isometry& T) { return support(T); }, fallback);
 }
 
 Isometry BackgroundSelector::polish(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
@@ -164,6 +186,7 @@ void BackgroundSelector::occlusionVotes(const std::vector<MotionMatch>& matches,
 void BackgroundSelector::select(const std::vector<MotionMatch>& matches, const MatchTrust& trust,
                                 const SelectionContext& context, BackgroundChoice& out) {
   const Isometry predicted = Isometry::Identity();  // point_ref is in the predicted frame
+  gatherWeighted(matches, trust.weight);
   std::vector<int> static_pool, trusted_pool;
   for (size_t i = 0; i < matches.size(); ++i) {
     if (trust.weight[i] > 0) trusted_pool.push_back(static_cast<int>(i));
@@ -175,9 +198,9 @@ void BackgroundSelector::select(const std::vector<MotionMatch>& matches, const M
   };
   std::vector<Candidate> candidates{{polish(matches, trust.weight, predicted), "prediction"}};
   if (static_pool.size() >= 6)
-    candidates.push_back({polish(matches, trust.weight, ransac(matches, trust.weight, static_pool, predicted)),
+    candidates.push_back({polish(matches, trust.weight, ransac(matches, static_pool, predicted)),
                           "ransac_static"});
-  const Isometry T_all = polish(matches, trust.weight, ransac(matches, trust.weight, trusted_pool, predicted));
+  const Isometry T_all = polish(matches, trust.weight, ransac(matches, trusted_pool, predicted));
   candidates.push_back({T_all, "ransac_all"});
   const bool young = context.young_map && static_cast<int>(static_pool.size()) < options_.min_static_landmarks;
   if (young && options_.young_second_motion) {
@@ -185,7 +208,7 @@ void BackgroundSelector::select(const std::vector<MotionMatch>& matches, const M
     for (int i : trusted_pool)
       if (!inlier(matches[static_cast<size_t>(i)], T_all, 2.0)) rest.push_back(i);
     if (rest.size() >= 6)
-      candidates.push_back({polish(matches, trust.weight, ransac(matches, trust.weight, rest, predicted)),
+      candidates.push_back({polish(matches, trust.weight, ransac(matches, rest, predicted)),
                             "ransac_rest"});
   }
 

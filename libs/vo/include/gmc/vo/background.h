@@ -140,11 +140,18 @@ class BackgroundSelector {
               BackgroundChoice& out);
 
  private:
+  /// The matches with weight, laid out for scoring hypotheses: RANSAC scores every
+  /// sample against all of them, the selection's largest cost.
+  struct WeightedPoints {
+    Eigen::Matrix3Xd cur, ref;
+    std::vector<double> threshold_sq;  ///< squared 3-D inlier threshold at the match's depth
+    std::vector<double> weight;
+  };
+  void gatherWeighted(const std::vector<MotionMatch>& matches, const std::vector<double>& weight);
   /// Weighted number of matches within the 3-D inlier threshold under T_ref_cur.
-  double support(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
-                 const Isometry& T_ref_cur) const;
-  Isometry ransac(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
-                  const std::vector<int>& pool, const Isometry& fallback);
+  double support(const Isometry& T_ref_cur) const;
+  /// Samples from `pool`, scored on weighted_ (gatherWeighted first).
+  Isometry ransac(const std::vector<MotionMatch>& matches, const std::vector<int>& pool, const Isometry& fallback);
   Isometry polish(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
                   Isometry T) const;
   /// Neighbour pairs (static, dynamic) where the static one is in front / behind.
@@ -157,6 +164,7 @@ class BackgroundSelector {
   BackgroundOptions options_;
   GmcClassifier gmc_;
   GmcResult scratch_;
+  WeightedPoints weighted_;
   static constexpr std::uint64_t kSeed = 0x9E3779B97F4A7C15ull;
   Xorshift64 rng_{kSeed};
 };
