@@ -87,27 +87,28 @@ BackgroundSelector::BackgroundSelector(const BackgroundOptions& options, const G
     : options_(options), gmc_(gmc) {}
 
 bool BackgroundSelector::inlier(const MotionMatch& m, const Isometry& T, double scale) const {
-  const double z = m.point_cur.z();
-  const double thr = scale * (options_.inlier_base + options_.inlier_per_m2 * z * z);
+  const double thr = scale * inlierThreshold(m.point_cur.z());
   return (m.point_ref - T * m.point_cur).squaredNorm() < thr * thr;
 }
 
-void BackgroundSelector::gatherWeighted(const std::vector<MotionMatch>& matches, const std::vector<double>& weight) {
-  std::vector<int> kept;
-  for (size_t i = 0; i < matches.size(); ++i)
-    if (weight[i] > 0) kept.push_back(static_cast<int>(i));
-  weighted_.cur.resize(3, static_cast<Eigen::Index>(kept.size()));
-  weighted_.ref.resize(3, static_cast<Eigen::Index>(kept.size()));
-  weighted_.threshold_sq.resize(kept.size());
-  weighted_.weight.resize(kept.size());
-  for (size_t k = 0; k < kept.size(); ++k) {
-    const MotionMatch& m = matches[static_cast<size_t>(kept[k])];
-    const double z = m.point_cur.z();
-    const double thr = options_.inlier_base + options_.inlier_per_m2 * z * z;  // as inlier() at scale 1
-    weighted_.cur.col(static_cast<Eigen::Index>(k)) = m.point_cur;
-    weighted_.ref.col(static_cast<Eigen::Index>(k)) = m.point_ref;
+double BackgroundSelector::inlierThreshold(double z) const {
+  return options_.inlier_base + options_.inlier_per_m2 * z * z;
+}
+
+void BackgroundSelector::gatherWeighted(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
+                                        const std::vector<int>& weighted) {
+  const auto n = static_cast<Eigen::Index>(weighted.size());
+  weighted_.cur.resize(3, n);
+  weighted_.ref.resize(3, n);
+  weighted_.threshold_sq.resize(weighted.size());
+  weighted_.weight.resize(weighted.size());
+  for (size_t k = 0; k < weighted.size(); ++k) {
+    const auto i = static_cast<size_t>(weighted[k]);
+    const double thr = inlierThreshold(matches[i].point_cur.z());
+    weighted_.cur.col(static_cast<Eigen::Index>(k)) = matches[i].point_cur;
+    weighted_.ref.col(static_cast<Eigen::Index>(k)) = matches[i].point_ref;
     weighted_.threshold_sq[k] = thr * thr;
-    weighted_.weight[k] = weight[static_cast<size_t>(kept[k])];
+    weighted_.weight[k] = weight[i];
   }
 }
 
@@ -186,12 +187,12 @@ void BackgroundSelector::occlusionVotes(const std::vector<MotionMatch>& matches,
 void BackgroundSelector::select(const std::vector<MotionMatch>& matches, const MatchTrust& trust,
                                 const SelectionContext& context, BackgroundChoice& out) {
   const Isometry predicted = Isometry::Identity();  // point_ref is in the predicted frame
-  gatherWeighted(matches, trust.weight);
   std::vector<int> static_pool, trusted_pool;
   for (size_t i = 0; i < matches.size(); ++i) {
     if (trust.weight[i] > 0) trusted_pool.push_back(static_cast<int>(i));
     if (trust.established[i]) static_pool.push_back(static_cast<int>(i));
   }
+  gatherWeighted(matches, trust.weight, trusted_pool);
   struct Candidate {
     Isometry T;
     const char* source;

@@ -147,7 +147,9 @@ class BackgroundSelector {
     std::vector<double> threshold_sq;  ///< squared 3-D inlier threshold at the match's depth
     std::vector<double> weight;
   };
-  void gatherWeighted(const std::vector<MotionMatch>& matches, const std::vector<double>& weight);
+  /// Packs matches[weighted] (the matches with weight > 0) into weighted_.
+  void gatherWeighted(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
+                      const std::vector<int>& weighted);
   /// Weighted number of matches within the 3-D inlier threshold under T_ref_cur.
   double support(const Isometry& T_ref_cur) const;
   /// Samples from `pool`, scored on weighted_ (gatherWeighted first).
@@ -159,6 +161,8 @@ class BackgroundSelector {
                       double& front, double& behind) const;
   /// The motion prior's weight of T (a departure from the prediction, which is the identity).
   double priorFactor(const Isometry& T, double frame_gap, bool velocity_known) const;
+  /// m, the 3-D inlier threshold at depth z (Kinect noise grows with z^2).
+  double inlierThreshold(double z) const;
   bool inlier(const MotionMatch& m, const Isometry& T, double scale = 1.0) const;
 
   BackgroundOptions options_;
