@@ -759,3 +759,20 @@ TEST(OdometrySim, KnownDynamicPixelsNeverHoldThePose) {
   EXPECT_GT(without, 0);
   EXPECT_EQ(with, 0);
 }
+
+// [FreeSpace] (off by default; doc/odometry.md, thirty-eighth round): a keyframe's new
+// landmark where four views 0.3-2 s old saw the room farther behind starts suspect.
+// Walkers step into space the camera has seen empty; the room's corners are never in
+// front of what was seen there (only pose error at a depth edge puts them so).
+TEST(OdometrySim, FreeSpaceSeenBeforeMakesTheWalkersNewLandmarksStartSuspect) {
+  const std::string path = GMC_SOURCE_DIR "/config/sim/crowd.ini";
+  const auto options = gmc::sim::loadSimOptions(gmc::cfg::loadIniFile(path), path);
+  gmc::vo::OdometryConfig off, on;
+  on.free_space.enabled = true;
+  const IntakeShares without = suspectShareAtCreation(options, off, 60);
+  const IntakeShares with = suspectShareAtCreation(options, on, 60);
+  printIntake(without, with);
+  ASSERT_GT(with.people_count, 50);
+  EXPECT_GT(with.people, without.people + 0.1);
+  EXPECT_LT(with.room, without.room + 0.01);
+}

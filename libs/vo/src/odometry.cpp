@@ -90,7 +90,8 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
       consensus_(config.start_consensus),
       gmc_previous_(config.gmc),
       smoother_(config.odometry.smoothing_frames, config.odometry.smoothing_break),
-      tracks_(config.odometry.track_frames) {
+      tracks_(config.odometry.track_frames),
+      free_space_(config.free_space) {
   const auto seed = static_cast<std::uint64_t>(config.odometry.random_seed);
   background_.reseed(seed);
   rejoin_.reseed(seed);
@@ -120,6 +121,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   FrameTracking out;
   out.stamp = stamp;
   out.frame_number = ++frame_number_;
+  camera_ = camera;
   features::FeatureSet cur = frontend_.extract(gray, depth, depth_units, camera);
   out.num_features = static_cast<int>(cur.size());
   markKnownDynamic(cur, known_dynamic);
@@ -193,6 +195,8 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
     velocity_known_ = true;
   }
   out.map_landmarks = static_cast<int>(map_.numAlive());
+  if (out.state == TrackingState::Tracking && config_.free_space.enabled && config_.gmc.enabled)
+    free_space_.push(depth, depth_units, out.T_world_camera, stamp);
   out.times.window = msSince(t0);
   bridgeLostFrames(out);
   smoothTrajectory(out);
@@ -657,6 +661,7 @@ void RgbdOdometry::startNewMap(const features::FeatureSet& cur, double stamp) {
   if (rejoin_.active()) records_.reanchor(left, last_tracked_, map_id_, lost_frames_);
   map_start_stamp_ = stamp;
   map_.clear();
+  free_space_.clear();  // the views' poses and the new map's are not known relative to each other
   window_keyframes_.clear();
   pose_landmarks_.clear();
   // This frame's matches point into the old map: none of them is an observation now.
@@ -742,12 +747,16 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
   // is judged. A pose that follows walkers sees the room move and masks it; behind the
   // walkers it holds on, the room is not taken out of the map.
   const double masked_in_front_of = maskable ? medianPoseDepth(cur, out) - o.mask_front_margin : 0.0;
+  const bool free_space_on = config_.free_space.enabled && config_.gmc.enabled;
   for (const auto& [feature, id] : map_.addFeatures(cur, track_.matched, labels, out.T_world_camera,
                                                     stamp, keyframe_count_)) {
     const auto& kp = cur.keypoints[static_cast<size_t>(feature)].pt;
     if (known_dynamic_[static_cast<size_t>(feature)]) map_.markKnownDynamic(id);
     kf.observations.push_back({0, id, Eigen::Vector2d(kp.x, kp.y), cur.points[static_cast<size_t>(feature)].z()});
     if (maskable && cur.points[static_cast<size_t>(feature)].z() < masked_in_front_of) maskable_.emplace_back(id, kp);
+    // Recent views saw the room through its place: it arrived since, on something that
+    // moves (a standing person too, until the suspicion ends).
+    if (free_space_on && free_space_.arrivedSince(map_[id].position, camera_, stamp)) map_.distrust(id, stamp);
   }
   ++keyframe_count_;
   window_keyframes_.push_back(std::move(kf));

@@ -32,8 +32,8 @@ class GmcFilter : public ObservationFilter {
   std::string name() const override { return "gmc"; }
   std::string defaultSection() const override { return "GmcFilter"; }
   /// Reads its own section, and [Frontend], [GMS], [GMC], [Odometry], [Refinement],
-  /// [LocalMap], [Background], [Keyframes], [Window],
-  /// [DynamicMask] shared by every gmc filter.
+  /// [LocalMap], [Background], [Keyframes], [Window], [Rejoin], [StartConsensus],
+  /// [FreeSpace], [DynamicMask] shared by every gmc filter.
   void initialize(const mrpt::config::CConfigFileBase& ini, const std::string& section,
                   const std::string& source) override;
   std::vector<std::string> sections(const std::string& section) const override;

@@ -12,6 +12,7 @@
 #include "gmc/gmc/gmc.h"
 #include "gmc/vo/background.h"
 #include "gmc/vo/feature_tracks.h"
+#include "gmc/vo/free_space.h"
 #include "gmc/vo/keyframe_policy.h"
 #include "gmc/vo/landmark_map.h"
 #include "gmc/vo/map_records.h"
@@ -134,6 +135,7 @@ struct OdometryConfig {
   WindowOptions window;                ///< [Window]
   RejoinOptions rejoin;                ///< [Rejoin]
   StartConsensusOptions start_consensus;  ///< [StartConsensus]
+  FreeSpaceOptions free_space;         ///< [FreeSpace]
 };
 
 /// Milliseconds spent per stage for one frame.
@@ -344,6 +346,8 @@ class RgbdOdometry {
   std::vector<WindowKeyframe> window_keyframes_;  ///< oldest first
   std::vector<int> pose_landmarks_;     ///< landmarks that held the last tracked pose (ids)
   FeatureTracks tracks_;                ///< the keypoints' frame-to-frame tracks in the world
+  FreeSpaceHistory free_space_;         ///< where recent views saw through
+  PinholeCamera camera_;                ///< the current frame's camera
   std::vector<std::pair<int, cv::Point2f>> maskable_;  ///< this frame's new landmarks (id, pixel)
                                                       ///< that its dynamic mask may distrust
 };
