@@ -90,4 +90,16 @@ TEST(FreeSpaceHistory, APointArrivedWhenEnoughViewsOldEnoughSawThrough) {
   EXPECT_FALSE(history.arrivedSince({0.0, 0.0, 3.0}, camera, 1.0));
 }
 
+TEST(FreeSpaceHistory, ADisabledHistoryKeepsNoViewAndFlagsNothing) {
+  FreeSpaceOptions o = enabled();
+  o.enabled = false;
+  o.min_views = 1;
+  o.min_age_seconds = 0;
+  FreeSpaceHistory history(o);
+  const PinholeCamera camera;
+  for (int k = 0; k < 5; ++k) history.push(wallDepth(3.0), kUnits, Isometry::Identity(), 0.25 * k);
+  EXPECT_EQ(history.seenThrough({0.0, 0.0, 2.0}, camera, 10.0), 0);
+  EXPECT_FALSE(history.arrivedSince({0.0, 0.0, 2.0}, camera, 10.0));
+}
+
 }  // namespace

@@ -7,7 +7,7 @@ namespace gmc::vo {
 
 void FreeSpaceHistory::push(const cv::Mat& depth, double depth_units, const Isometry& T_world_camera,
                             double stamp) {
-  if (!views_.empty() && stamp - views_.back().stamp < options_.spacing_seconds) return;
+  if (!options_.enabled || (!views_.empty() && stamp - views_.back().stamp < options_.spacing_seconds)) return;
   while (!views_.empty() && stamp - views_.front().stamp > options_.history_seconds) views_.pop_front();
   const int c = options_.cell_px;
   View v;

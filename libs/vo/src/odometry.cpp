@@ -53,6 +53,13 @@ MotionMatch motionMatch(const features::FeatureSet& ref, const features::Feature
           cur.points[static_cast<size_t>(m.cur)]};
 }
 
+/// Free space is dynamic evidence: none without GMC (the paper's baseline run).
+FreeSpaceOptions freeSpaceOptions(const OdometryConfig& config) {
+  FreeSpaceOptions o = config.free_space;
+  o.enabled = o.enabled && config.gmc.enabled;
+  return o;
+}
+
 /// The 3-D inlier threshold of the background options: what "in place" means everywhere.
 InPlaceThreshold inPlaceThreshold(const BackgroundOptions& b) { return {b.inlier_base, b.inlier_per_m2}; }
 
@@ -91,7 +98,7 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
       gmc_previous_(config.gmc),
       smoother_(config.odometry.smoothing_frames, config.odometry.smoothing_break),
       tracks_(config.odometry.track_frames),
-      free_space_(config.free_space) {
+      free_space_(freeSpaceOptions(config)) {
   const auto seed = static_cast<std::uint64_t>(config.odometry.random_seed);
   background_.reseed(seed);
   rejoin_.reseed(seed);
@@ -195,8 +202,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
     velocity_known_ = true;
   }
   out.map_landmarks = static_cast<int>(map_.numAlive());
-  if (out.state == TrackingState::Tracking && config_.free_space.enabled && config_.gmc.enabled)
-    free_space_.push(depth, depth_units, out.T_world_camera, stamp);
+  if (out.state == TrackingState::Tracking) free_space_.push(depth, depth_units, out.T_world_camera, stamp);
   out.times.window = msSince(t0);
   bridgeLostFrames(out);
   smoothTrajectory(out);
@@ -747,7 +753,6 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
   // is judged. A pose that follows walkers sees the room move and masks it; behind the
   // walkers it holds on, the room is not taken out of the map.
   const double masked_in_front_of = maskable ? medianPoseDepth(cur, out) - o.mask_front_margin : 0.0;
-  const bool free_space_on = config_.free_space.enabled && config_.gmc.enabled;
   for (const auto& [feature, id] : map_.addFeatures(cur, track_.matched, labels, out.T_world_camera,
                                                     stamp, keyframe_count_)) {
     const auto& kp = cur.keypoints[static_cast<size_t>(feature)].pt;
@@ -756,7 +761,7 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
     if (maskable && cur.points[static_cast<size_t>(feature)].z() < masked_in_front_of) maskable_.emplace_back(id, kp);
     // Recent views saw the room through its place: it arrived since, on something that
     // moves (a standing person too, until the suspicion ends).
-    if (free_space_on && free_space_.arrivedSince(map_[id].position, camera_, stamp)) map_.distrust(id, stamp);
+    if (free_space_.arrivedSince(map_[id].position, camera_, stamp)) map_.distrust(id, stamp);
   }
   ++keyframe_count_;
   window_keyframes_.push_back(std::move(kf));

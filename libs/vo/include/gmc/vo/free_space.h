@@ -43,15 +43,17 @@ class FreeSpaceHistory {
   explicit FreeSpaceHistory(const FreeSpaceOptions& options = {}) : options_(options) {}
   const FreeSpaceOptions& options() const { return options_; }
   void clear() { views_.clear(); }
-  /// Keeps a tracked frame's depth (CV_16UC1, raw units) as seen from T_world_camera.
+  /// Keeps a tracked frame's depth (CV_16UC1, raw units) as seen from T_world_camera
+  /// (nothing when disabled).
   void push(const cv::Mat& depth, double depth_units, const Isometry& T_world_camera, double stamp);
   /// Views taken at or before `before` whose depth around the point's pixel (the cell and
   /// its eight neighbours: pose error and depth edges) lies everywhere beyond the point
   /// by the margin. A cell without reading decides nothing.
   int seenThrough(const Eigen::Vector3d& p_world, const PinholeCamera& camera, double before) const;
-  /// The point arrived after the views old enough to judge it saw through its place.
+  /// The point arrived after the views old enough to judge it saw through its place
+  /// (never when disabled).
   bool arrivedSince(const Eigen::Vector3d& p_world, const PinholeCamera& camera, double stamp) const {
-    return seenThrough(p_world, camera, stamp - options_.min_age_seconds) >= options_.min_views;
+    return options_.enabled && seenThrough(p_world, camera, stamp - options_.min_age_seconds) >= options_.min_views;
   }
 
  private:
