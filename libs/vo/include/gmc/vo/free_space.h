@@ -13,7 +13,7 @@
 namespace gmc::vo {
 
 /// INI section [FreeSpace]. Off by default: measured, it moves the generated crowds both
-/// ways and leaves Bonn unchanged (doc/odometry.md, thirty-eighth round).
+/// ways and does not help Bonn (doc/odometry.md, thirty-eighth round).
 struct FreeSpaceOptions {
   bool enabled = false;
   int cell_px = 4;                ///< depth min-pooled over cell_px x cell_px pixels
