@@ -87,16 +87,13 @@ BackgroundSelector::BackgroundSelector(const BackgroundOptions& options, const G
     : options_(options), gmc_(gmc) {}
 
 bool BackgroundSelector::inlier(const MotionMatch& m, const Isometry& T, double scale) const {
-  const double thr = scale * inlierThreshold(m.point_cur.z());
+  const double thr = scale * options_.inPlace().at(m.point_cur.z());
   return (m.point_ref - T * m.point_cur).squaredNorm() < thr * thr;
-}
-
-double BackgroundSelector::inlierThreshold(double z) const {
-  return options_.inlier_base + options_.inlier_per_m2 * z * z;
 }
 
 void BackgroundSelector::gatherWeighted(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
                                         const std::vector<int>& weighted) {
+  const InPlaceThreshold threshold = options_.inPlace();
   const auto n = static_cast<Eigen::Index>(weighted.size());
   weighted_.cur.resize(3, n);
   weighted_.ref.resize(3, n);
@@ -104,7 +101,7 @@ void BackgroundSelector::gatherWeighted(const std::vector<MotionMatch>& matches,
   weighted_.weight.resize(weighted.size());
   for (size_t k = 0; k < weighted.size(); ++k) {
     const auto i = static_cast<size_t>(weighted[k]);
-    const double thr = inlierThreshold(matches[i].point_cur.z());
+    const double thr = threshold.at(matches[i].point_cur.z());
     weighted_.cur.col(static_cast<Eigen::Index>(k)) = matches[i].point_cur;
     weighted_.ref.col(static_cast<Eigen::Index>(k)) = matches[i].point_ref;
     weighted_.threshold_sq[k] = thr * thr;

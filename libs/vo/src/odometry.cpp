@@ -60,9 +60,6 @@ FreeSpaceOptions freeSpaceOptions(const OdometryConfig& config) {
   return o;
 }
 
-/// The 3-D inlier threshold of the background options: what "in place" means everywhere.
-InPlaceThreshold inPlaceThreshold(const BackgroundOptions& b) { return {b.inlier_base, b.inlier_per_m2}; }
-
 /// The same pose with its rotation re-orthonormalised: poses are inverted (as
 /// transposes) and composed with the velocity every frame, which doubles any departure
 /// from a rotation each frame until it shows.
@@ -93,7 +90,7 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
       window_(config.window, config.refinement),
       map_(config.local_map),
       rejoin_(config.rejoin, config.refinement,
-              inPlaceThreshold(config.background)),
+              config.background.inPlace()),
       consensus_(config.start_consensus),
       gmc_previous_(config.gmc),
       smoother_(config.odometry.smoothing_frames, config.odometry.smoothing_break),
@@ -128,7 +125,6 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   FrameTracking out;
   out.stamp = stamp;
   out.frame_number = ++frame_number_;
-  camera_ = camera;
   features::FeatureSet cur = frontend_.extract(gray, depth, depth_units, camera);
   out.num_features = static_cast<int>(cur.size());
   markKnownDynamic(cur, known_dynamic);
@@ -137,7 +133,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   out.keypoint_in_pose.assign(cur.size(), 0);
   out.times.frontend = msSince(t_start);
   if (!initialized_) {
-    initialize(std::move(cur), stamp, out);
+    initialize(std::move(cur), camera, stamp, out);
     out.times.total = msSince(t_start);
     return out;
   }
@@ -192,7 +188,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
                  out.state == TrackingState::Tracking && !out.start_consensus && !out.rejoined);
   // 6. Static evidence, keyframes, windowed optimisation.
   t0 = Clock::now();
-  updateMap(cur, stamp, out);
+  updateMap(cur, camera, stamp, out);
   if (out.new_keyframe && out.state == TrackingState::Tracking && config_.window.keyframes > 1)
     out.T_world_camera = orthonormalized(optimizeWindow(camera, stamp, out));
   // The velocity of a tracked frame, once its pose is final. After lost frames the last
@@ -228,7 +224,8 @@ void RgbdOdometry::distrustMaskedLandmarks(const cv::Mat& mask) {
 }
 
 // ------------------------------------------------------------------ steps
-void RgbdOdometry::initialize(features::FeatureSet&& cur, double stamp, FrameTracking& out) {
+void RgbdOdometry::initialize(features::FeatureSet&& cur, const PinholeCamera& camera, double stamp,
+                              FrameTracking& out) {
   out.state = TrackingState::Initialized;
   out.new_keyframe = true;
   map_.clear();
@@ -238,7 +235,7 @@ void RgbdOdometry::initialize(features::FeatureSet&& cur, double stamp, FrameTra
   track_ = MapTrack{};
   track_.matched.assign(cur.size(), 0);
   keyframe_policy_.reset(Isometry::Identity());
-  addKeyframe(cur, stamp, out);
+  addKeyframe(cur, camera, stamp, out);
   startConsensus(stamp);
   out.map_landmarks = static_cast<int>(map_.numAlive());
   previous_ = std::move(cur);
@@ -283,7 +280,7 @@ void RgbdOdometry::judgeStart(double stamp, FrameTracking& out) {
   for (size_t k = 0; k < track_.motion.size(); ++k)
     frame.observations.emplace_back(track_.landmark[k], track_.motion[k].point_cur);
   consensus_.add(frame);
-  const ConsensusResult consensus = consensus_.solve(inPlaceThreshold(config_.background));
+  const ConsensusResult consensus = consensus_.solve(config_.background.inPlace());
   if (!consensus.found || consensus.score < config_.start_consensus.min_gain * consensus.given_score) return;
   if (static_cast<int>(consensus.inliers_latest.size()) < config_.odometry.min_static_inliers) return;
   adoptConsensus(consensus, stamp, out);
@@ -623,7 +620,8 @@ void RgbdOdometry::labelAgainstPreviousFrame(const features::FeatureSet& cur, co
   }
 }
 
-void RgbdOdometry::updateMap(const features::FeatureSet& cur, double stamp, FrameTracking& out) {
+void RgbdOdometry::updateMap(const features::FeatureSet& cur, const PinholeCamera& camera, double stamp,
+                             FrameTracking& out) {
   if (out.state == TrackingState::Tracking) {
     std::vector<LandmarkObservation> seen;
     seen.reserve(track_.motion.size());
@@ -631,7 +629,7 @@ void RgbdOdometry::updateMap(const features::FeatureSet& cur, double stamp, Fram
     // renew its own suspicion while it stays in place.
     for (size_t k = 0; k < track_.motion.size(); ++k)
       seen.push_back({track_.landmark[k], track_.motion[k].point_cur, choice_.gmc.labels[k]});
-    map_.observe(seen, track_.view.ids, out.T_world_camera, stamp, inPlaceThreshold(config_.background));
+    map_.observe(seen, track_.view.ids, out.T_world_camera, stamp, config_.background.inPlace());
   }
   KeyframeFrame frame;
   frame.tracked = out.state == TrackingState::Tracking;
@@ -650,7 +648,7 @@ void RgbdOdometry::updateMap(const features::FeatureSet& cur, double stamp, Fram
     if (config_.keyframes.reanchor_new_map) startNewMap(cur, stamp);
   }
   out.new_keyframe = true;
-  addKeyframe(cur, stamp, out);
+  addKeyframe(cur, camera, stamp, out);
   if (map_restarted_) startConsensus(stamp);
 }
 
@@ -721,7 +719,8 @@ void RgbdOdometry::tryRejoin(const features::FeatureSet& cur, const PinholeCamer
   consensus_.stop();  // the map joins one with evidence
 }
 
-void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, const FrameTracking& out) {
+void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, const PinholeCamera& camera, double stamp,
+                               const FrameTracking& out) {
   WindowKeyframe kf;
   kf.T_world_kf = out.T_world_camera;
   // Static matches with trust join the window's observations; the rest of the frame's
@@ -739,7 +738,7 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
   std::vector<MotionLabel> labels = out.keypoint_labels;
   const auto& o = config_.odometry;
   if (tracks_.enabled() && !consensus_.active() && dynamicShare(out) >= o.track_min_dynamic_share) {
-    const InPlaceThreshold threshold = inPlaceThreshold(config_.background);
+    const InPlaceThreshold threshold = config_.background.inPlace();
     for (size_t i = 0; i < labels.size(); ++i)
       if (tracks_.movedOn(i) > o.track_moved_factor * threshold.at(cur.points[i].z())) labels[i] = MotionLabel::Dynamic;
   }
@@ -761,7 +760,7 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, double stamp, co
     if (maskable && cur.points[static_cast<size_t>(feature)].z() < masked_in_front_of) maskable_.emplace_back(id, kp);
     // Recent views saw the room through its place: it arrived since, on something that
     // moves (a standing person too, until the suspicion ends).
-    if (free_space_.arrivedSince(map_[id].position, camera_, stamp)) map_.distrust(id, stamp);
+    if (free_space_.arrivedSince(map_[id].position, camera, stamp)) map_.distrust(id, stamp);
   }
   ++keyframe_count_;
   window_keyframes_.push_back(std::move(kf));

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "gmc/gmc/gmc.h"
+#include "gmc/vo/in_place_threshold.h"
 
 namespace gmc::vo {
 
@@ -40,6 +41,9 @@ struct BackgroundOptions {
   double occlusion_margin = 0.3;      ///< m, depth step that counts as occlusion
   bool young_refine_inliers = true;   ///< young map: refine only on the hypothesis' inliers (GMC's
                                       ///< one-frame labels cannot split 3 cm at 3 m; a mix would)
+
+  /// The 3-D inlier threshold these options define: what "in place" means everywhere.
+  InPlaceThreshold inPlace() const { return {inlier_base, inlier_per_m2}; }
 
   template <class V>
   void visit(V& v) {
@@ -161,8 +165,6 @@ class BackgroundSelector {
                       double& front, double& behind) const;
   /// The motion prior's weight of T (a departure from the prediction, which is the identity).
   double priorFactor(const Isometry& T, double frame_gap, bool velocity_known) const;
-  /// m, the 3-D inlier threshold at depth z (Kinect noise grows with z^2).
-  double inlierThreshold(double z) const;
   bool inlier(const MotionMatch& m, const Isometry& T, double scale = 1.0) const;
 
   BackgroundOptions options_;

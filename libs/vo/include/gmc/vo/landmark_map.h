@@ -13,6 +13,7 @@
 
 #include "gmc/features/frontend.h"
 #include "gmc/gmc/gmc.h"
+#include "gmc/vo/in_place_threshold.h"
 
 namespace gmc::vo {
 
@@ -84,13 +85,6 @@ struct LandmarkObservation {
 struct LandmarkView {
   features::FeatureSet set;
   std::vector<int> ids;  ///< landmark id per entry of `set`
-};
-
-/// Thresholds deciding "in place" (same as the odometry's 3-D inlier threshold).
-struct InPlaceThreshold {
-  double base = 0.005;    ///< m at zero depth
-  double per_m2 = 0.002;  ///< growth per depth^2
-  double at(double depth) const { return base + per_m2 * depth * depth; }
 };
 
 class LandmarkMap {

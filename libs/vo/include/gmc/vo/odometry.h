@@ -259,7 +259,7 @@ class RgbdOdometry {
 
   /// known_dynamic_ for the frame's keypoints (2 px margin); throws on a wrong mask.
   void markKnownDynamic(const features::FeatureSet& cur, const cv::Mat& known_dynamic);
-  void initialize(features::FeatureSet&& cur, double stamp, FrameTracking& out);
+  void initialize(features::FeatureSet&& cur, const PinholeCamera& camera, double stamp, FrameTracking& out);
   void bridgeLostFrames(FrameTracking& out);
   /// The pose smoothing_frames back, fitted over the tracked frames around it (a revision).
   void smoothTrajectory(FrameTracking& out);
@@ -282,8 +282,9 @@ class RgbdOdometry {
   MotionPrior motionPrior(const Isometry& T_world_pred, double frame_gap) const;
   void decideTracking(const RefinementResult& refined, Isometry T_world_cur, bool trustworthy,
                       const Isometry& T_world_pred, FrameTracking& out);
-  void updateMap(const features::FeatureSet& cur, double stamp, FrameTracking& out);
-  void addKeyframe(const features::FeatureSet& cur, double stamp, const FrameTracking& out);
+  void updateMap(const features::FeatureSet& cur, const PinholeCamera& camera, double stamp, FrameTracking& out);
+  void addKeyframe(const features::FeatureSet& cur, const PinholeCamera& camera, double stamp,
+                   const FrameTracking& out);
   /// Re-anchoring: the old landmarks and window go (the static ones wait in rejoin_),
   /// the keyframe seeds a new map.
   void startNewMap(const features::FeatureSet& cur, double stamp);
@@ -347,7 +348,6 @@ class RgbdOdometry {
   std::vector<int> pose_landmarks_;     ///< landmarks that held the last tracked pose (ids)
   FeatureTracks tracks_;                ///< the keypoints' frame-to-frame tracks in the world
   FreeSpaceHistory free_space_;         ///< where recent views saw through
-  PinholeCamera camera_;                ///< the current frame's camera
   std::vector<std::pair<int, cv::Point2f>> maskable_;  ///< this frame's new landmarks (id, pixel)
                                                       ///< that its dynamic mask may distrust
 };
