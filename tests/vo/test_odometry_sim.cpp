@@ -776,3 +776,24 @@ TEST(OdometrySim, FreeSpaceSeenBeforeMakesTheWalkersNewLandmarksStartSuspect) {
   EXPECT_GT(with.people, without.people + 0.1);
   EXPECT_LT(with.room, without.room + 0.01);
 }
+
+// [DepthAlignment] (off by default; doc/odometry.md, thirty-ninth round): the last tracked
+// frame's depth, as planes, joins the pose. On the crowd scenario (walkers on a third of
+// the image, their untextured parts unmarked by keypoints) it keeps the bound the
+// keypoints alone keep, and it pulls the pose (some samples are associated every frame).
+TEST(OdometrySim, TheRoomsDepthInThePoseKeepsTheCrowdWithinCentimetres) {
+  const std::string path = GMC_SOURCE_DIR "/config/sim/crowd.ini";
+  const auto options = gmc::sim::loadSimOptions(gmc::cfg::loadIniFile(path), path);
+  gmc::vo::OdometryConfig dense;
+  dense.depth_alignment.enabled = true;
+  dense.depth_alignment.weight = 0.03;
+  double rms = 0;
+  int lost = 0;
+  const double worst = worstError(options, dense, 150, &lost, &rms);
+  std::printf("  crowd, 150 frames, with the room's depth: position error RMS %.4f m (worst %.4f, %d lost)\n", rms,
+              worst, lost);
+  EXPECT_LT(rms, 0.03);
+  gmc::vo::OdometryConfig other_weight = dense;
+  other_weight.depth_alignment.weight = 1.0;
+  EXPECT_NE(worstError(options, other_weight, 30), worstError(options, dense, 30));
+}

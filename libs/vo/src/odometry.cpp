@@ -95,7 +95,8 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
       gmc_previous_(config.gmc),
       smoother_(config.odometry.smoothing_frames, config.odometry.smoothing_break),
       tracks_(config.odometry.track_frames),
-      free_space_(freeSpaceOptions(config)) {
+      free_space_(freeSpaceOptions(config)),
+      depth_alignment_(config.depth_alignment) {
   const auto seed = static_cast<std::uint64_t>(config.odometry.random_seed);
   background_.reseed(seed);
   rejoin_.reseed(seed);
@@ -164,10 +165,11 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   out.static_landmarks_agreeing = choice_.established_agreeing;
   out.times.guess += msSince(t0);
 
-  // 3. Refinement on the static matches, 4. tracked or lost.
+  // 3. Refinement on the static matches (and the room's depth), 4. tracked or lost.
   t0 = Clock::now();
-  const RefinementResult refined =
-      refineOnBackground(T_world_pred * choice_.T_ref_cur, T_world_pred, stamp - last_stamp_, camera, out);
+  const Isometry T_world_guess = T_world_pred * choice_.T_ref_cur;
+  sampleDepthForPose(cur, depth, depth_units, camera, stamp, known_dynamic, T_world_guess);
+  const RefinementResult refined = refineOnBackground(T_world_guess, T_world_pred, stamp - last_stamp_, camera, out);
   out.times.refine += msSince(t0);
   const bool after_lost_frames = lost_streak_ > 0;
   decideTracking(refined, orthonormalized(refined.T_cur_ref).inverse(), choice_.trustworthy, T_world_pred, out);
@@ -198,7 +200,10 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
     velocity_known_ = true;
   }
   out.map_landmarks = static_cast<int>(map_.numAlive());
-  if (out.state == TrackingState::Tracking) free_space_.push(depth, depth_units, out.T_world_camera, stamp);
+  if (out.state == TrackingState::Tracking) {
+    free_space_.push(depth, depth_units, out.T_world_camera, stamp);
+    keepDepthReference(out, depth, depth_units, camera, stamp, known_dynamic);
+  }
   out.times.window = msSince(t0);
   bridgeLostFrames(out);
   smoothTrajectory(out);
@@ -221,6 +226,7 @@ void RgbdOdometry::distrustMaskedLandmarks(const cv::Mat& mask) {
     map_.distrust(id, last_stamp_);  // the keyframe's stamp: process() ends with it
   }
   maskable_.clear();
+  if (depth_reference_frame_ == frame_number_) depth_alignment_.maskReference(mask);
 }
 
 // ------------------------------------------------------------------ steps
@@ -534,10 +540,38 @@ RefinementResult RgbdOdometry::refineOnBackground(const Isometry& T_world_guess,
   // Relative trust: young landmarks count less only next to landmarks with evidence.
   for (auto& o : obs) o.weight /= max_weight;
   RefinementResult refined =
-      refinePose(obs, T_world_guess.inverse(), camera, config_.refinement, motionPrior(T_world_pred, frame_gap));
+      refinePose(obs, T_world_guess.inverse(), camera, config_.refinement, motionPrior(T_world_pred, frame_gap),
+                 depth_alignment_.currentSize() > 0 ? &depth_alignment_ : nullptr);
   for (size_t j = 0; j < refined.inlier_flags.size(); ++j)
     out.map_matches[obs_match[j]].pose_inlier = refined.inlier_flags[j] != 0;
   return refined;
+}
+
+void RgbdOdometry::sampleDepthForPose(const features::FeatureSet& cur, const cv::Mat& depth, double depth_units,
+                                      const PinholeCamera& camera, double stamp, const cv::Mat& known_dynamic,
+                                      const Isometry& T_world_guess) {
+  if (!depth_alignment_.options().enabled) return;
+  // Pixels near the frame's walkers (GMC's dynamic matches, landmarks seen moving,
+  // remembered walkers) stay out of the dense term.
+  std::vector<cv::Point2f> dynamic;
+  for (size_t k = 0; k < track_.motion.size(); ++k) {
+    const auto i = static_cast<size_t>(track_.cur_index[k]);
+    if (choice_.gmc.labels[k] == MotionLabel::Dynamic || track_.trust.weight[k] <= 0 || memory_[i] > 0)
+      dynamic.push_back(cur.keypoints[i].pt);
+  }
+  depth_alignment_.setCurrent(depth, depth_units, camera, stamp, dynamic, known_dynamic);
+  depth_alignment_.keepAgreeing(T_world_guess.inverse(), camera,
+                                {config_.refinement.depth_sigma_base, config_.refinement.depth_sigma_per_m2});
+}
+
+void RgbdOdometry::keepDepthReference(const FrameTracking& out, const cv::Mat& depth, double depth_units,
+                                      const PinholeCamera& camera, double stamp, const cv::Mat& known_dynamic) {
+  if (!depth_alignment_.options().enabled) return;
+  std::vector<cv::Point2f> dynamic;
+  for (size_t i = 0; i < out.keypoints.size(); ++i)
+    if (out.keypoint_labels[i] == MotionLabel::Dynamic || memory_[i] > 0) dynamic.push_back(out.keypoints[i]);
+  depth_alignment_.setReference(depth, depth_units, camera, out.T_world_camera, stamp, dynamic, known_dynamic);
+  depth_reference_frame_ = frame_number_;
 }
 
 MotionPrior RgbdOdometry::motionPrior(const Isometry& T_world_pred, double frame_gap) const {
@@ -666,6 +700,7 @@ void RgbdOdometry::startNewMap(const features::FeatureSet& cur, double stamp) {
   map_start_stamp_ = stamp;
   map_.clear();
   free_space_.clear();  // the views' poses and the new map's are not known relative to each other
+  depth_alignment_.clear();
   window_keyframes_.clear();
   pose_landmarks_.clear();
   // This frame's matches point into the old map: none of them is an observation now.

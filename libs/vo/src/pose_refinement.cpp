@@ -1,5 +1,7 @@
 #include "gmc/vo/pose_refinement.h"
 
+#include "gmc/vo/depth_alignment.h"
+
 #include <mrpt/math/geometry.h>
 #include <mrpt/poses/Lie/SO.h>
 
@@ -70,7 +72,8 @@ double positionStdDev(const RefinementResult& result) {
 
 RefinementResult refinePose(const std::vector<PointObservation>& observations,
                             const Isometry& T_cur_ref_initial, const PinholeCamera& camera,
-                            const RefinementOptions& options, const MotionPrior& prior) {
+                            const RefinementOptions& options, const MotionPrior& prior,
+                            const DepthAlignment* dense) {
   RefinementResult result;
   result.T_cur_ref = T_cur_ref_initial;
   if (observations.size() < 3) return result;
@@ -137,6 +140,7 @@ RefinementResult refinePose(const std::vector<PointObservation>& observations,
       H.diagonal() += info;
       g += info.cwiseProduct(r);
     }
+    if (dense) dense->accumulate(result.T_cur_ref, camera, {options.depth_sigma_base, options.depth_sigma_per_m2}, H, g);
     H.diagonal().array() += 1e-9;  // keeps degenerate directions solvable
     const Vec6 delta = -H.ldlt().solve(g);
     if (!delta.allFinite()) break;

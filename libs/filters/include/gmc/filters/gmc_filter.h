@@ -33,7 +33,7 @@ class GmcFilter : public ObservationFilter {
   std::string defaultSection() const override { return "GmcFilter"; }
   /// Reads its own section, and [Frontend], [GMS], [GMC], [Odometry], [Refinement],
   /// [LocalMap], [Background], [Keyframes], [Window], [Rejoin], [StartConsensus],
-  /// [FreeSpace], [DynamicMask] shared by every gmc filter.
+  /// [FreeSpace], [DepthAlignment], [DynamicMask] shared by every gmc filter.
   void initialize(const mrpt::config::CConfigFileBase& ini, const std::string& section,
                   const std::string& source) override;
   std::vector<std::string> sections(const std::string& section) const override;

@@ -11,6 +11,7 @@
 #include "gmc/features/frontend.h"
 #include "gmc/gmc/gmc.h"
 #include "gmc/vo/background.h"
+#include "gmc/vo/depth_alignment.h"
 #include "gmc/vo/feature_tracks.h"
 #include "gmc/vo/free_space.h"
 #include "gmc/vo/keyframe_policy.h"
@@ -136,6 +137,7 @@ struct OdometryConfig {
   RejoinOptions rejoin;                ///< [Rejoin]
   StartConsensusOptions start_consensus;  ///< [StartConsensus]
   FreeSpaceOptions free_space;         ///< [FreeSpace]
+  DepthAlignmentOptions depth_alignment;  ///< [DepthAlignment]
 };
 
 /// Milliseconds spent per stage for one frame.
@@ -235,8 +237,9 @@ class RgbdOdometry {
 
   /// The last processed frame's dynamic mask (CV_8UC1, non-zero = dynamic, pixels as the
   /// image's), built after process() from its result (DynamicMaskBuilder): a landmark the
-  /// frame's keyframe made inside it starts suspect. A no-op unless [Odometry]
-  /// mask_new_landmarks is on and the frame was such a keyframe.
+  /// frame's keyframe made inside it starts suspect (when [Odometry] mask_new_landmarks is
+  /// on and the frame was such a keyframe), and the dense depth term's reference, when it
+  /// is this frame, leaves it out ([DepthAlignment]).
   void distrustMaskedLandmarks(const cv::Mat& mask);
 
  private:
@@ -280,6 +283,14 @@ class RgbdOdometry {
   RefinementResult refineOnBackground(const Isometry& T_world_guess, const Isometry& T_world_pred,
                                       double frame_gap, const PinholeCamera& camera, FrameTracking& out);
   MotionPrior motionPrior(const Isometry& T_world_pred, double frame_gap) const;
+  /// The frame's depth for the pose's dense term, away from its walkers and (with
+  /// guess_gate) near its reference planes at the keypoints' guess ([DepthAlignment]).
+  void sampleDepthForPose(const features::FeatureSet& cur, const cv::Mat& depth, double depth_units,
+                          const PinholeCamera& camera, double stamp, const cv::Mat& known_dynamic,
+                          const Isometry& T_world_guess);
+  /// A tracked frame's depth, away from its walkers, as the next frame's dense reference.
+  void keepDepthReference(const FrameTracking& out, const cv::Mat& depth, double depth_units,
+                          const PinholeCamera& camera, double stamp, const cv::Mat& known_dynamic);
   void decideTracking(const RefinementResult& refined, Isometry T_world_cur, bool trustworthy,
                       const Isometry& T_world_pred, FrameTracking& out);
   void updateMap(const features::FeatureSet& cur, const PinholeCamera& camera, double stamp, FrameTracking& out);
@@ -348,6 +359,8 @@ class RgbdOdometry {
   std::vector<int> pose_landmarks_;     ///< landmarks that held the last tracked pose (ids)
   FeatureTracks tracks_;                ///< the keypoints' frame-to-frame tracks in the world
   FreeSpaceHistory free_space_;         ///< where recent views saw through
+  DepthAlignment depth_alignment_;      ///< the last tracked frame's depth as planes, for the pose
+  long depth_reference_frame_ = -1;     ///< the frame number of depth_alignment_'s reference
   std::vector<std::pair<int, cv::Point2f>> maskable_;  ///< this frame's new landmarks (id, pixel)
                                                       ///< that its dynamic mask may distrust
 };

@@ -7,6 +7,10 @@
 #include "gmc/gmc/types.h"
 
 namespace gmc::vo {
+class DepthAlignment;
+}
+
+namespace gmc::vo {
 
 /// INI section [Refinement].
 struct RefinementOptions {
@@ -72,9 +76,10 @@ struct MotionPrior {
 
 /// Refines T_cur_ref (maps reference points into the current camera frame). The prior,
 /// when given, joins the cost but not `information` (which measures what the points
-/// determine).
+/// determine); so does the dense depth term, when given (T_cur_ref is then T_cur_world).
 RefinementResult refinePose(const std::vector<PointObservation>& observations,
                             const Isometry& T_cur_ref_initial, const PinholeCamera& camera,
-                            const RefinementOptions& options, const MotionPrior& prior = {});
+                            const RefinementOptions& options, const MotionPrior& prior = {},
+                            const DepthAlignment* dense = nullptr);
 
 }  // namespace gmc::vo
