@@ -566,7 +566,8 @@ void RgbdOdometry::sampleDepthForPose(const features::FeatureSet& cur, const cv:
 
 void RgbdOdometry::keepDepthReference(const FrameTracking& out, const cv::Mat& depth, double depth_units,
                                       const PinholeCamera& camera, double stamp, const cv::Mat& known_dynamic) {
-  if (!depth_alignment_.options().enabled) return;
+  const auto& options = depth_alignment_.options();
+  if (!options.enabled || (options.keyframe_reference && !out.new_keyframe)) return;
   std::vector<cv::Point2f> dynamic;
   for (size_t i = 0; i < out.keypoints.size(); ++i)
     if (out.keypoint_labels[i] == MotionLabel::Dynamic || memory_[i] > 0) dynamic.push_back(out.keypoints[i]);

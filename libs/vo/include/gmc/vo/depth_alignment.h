@@ -23,6 +23,7 @@ struct DepthAlignmentOptions {
   int exclusion_cell_px = 32;   ///< px: cells with a dynamic keypoint, and their neighbours, give no pixels
   double min_normal_agreement = 0.9;  ///< cosine: surfaces facing further apart are not associated
   double guess_gate = 0;        ///< sigmas: keep only pixels this close at the keypoints' guess (0: all)
+  bool keyframe_reference = false;  ///< the reference is the last keyframe, not the last tracked frame
 
   template <class V>
   void visit(V& v) {
@@ -36,6 +37,8 @@ struct DepthAlignmentOptions {
       "px: cells holding a dynamic keypoint, and their neighbours, give no pixels");
     v("min_normal_agreement", min_normal_agreement, -1.0, 1.0,
       "cosine between the two frames' normals below which a pixel has no reference");
+    v("keyframe_reference", keyframe_reference,
+      "the reference depth is the last keyframe's (held by the map), not the last tracked frame's");
     v("guess_gate", guess_gate, 0.0, 100.0,
       "depth sigmas: only pixels this close to their plane at the keypoints' pose guess join (0: all)");
   }
