@@ -30,11 +30,16 @@ or worse, the geometric mean of the ratios new / base, with several streams that
 per stream (stream k against stream k) and again without the stream-runs above 0.5 m in
 either file (a run that flips between two outcomes a hundred times apart sways a whole
 stream's mean), the count of stream-runs above 0.5 m, and the runs that moved.
+
+"run" reads config/ as it is when the set starts (a copy in a temporary folder): a set
+takes ten minutes or more, and a key added to config/default.ini meanwhile would make an
+older --bin reject it and the set break (it happened twice, rounds 38 and 39).
 """
 import argparse
 import json
 import math
 import os
+import shutil
 import statistics
 import sys
 import tempfile
@@ -70,13 +75,14 @@ BONN = ['bonn_crowd_240_389', 'bonn_crowd_301_460']
 def runs_of(set_name, args):
     """(run name, config, folder, first frame, frame count) of one set; count 0 is 'to the end'."""
     spec, runs = SETS[set_name], []
+    configs = getattr(args, 'config_dir', 'config')
     for scenario, seed in spec.get('generated', []):
         folder = sequence_folder(args.data, scenario, seed, GENERATED_FRAMES)
-        runs.append(('%s %d' % (scenario, seed), 'config/default.ini', folder, 0, 0))
+        runs.append(('%s %d' % (scenario, seed), os.path.join(configs, 'default.ini'), folder, 0, 0))
     if spec.get('teddy_starts'):
         folder = os.path.join(args.shared, TEDDY)
         if os.path.isdir(folder):
-            runs += [('teddy +%d' % f, 'config/tum_fr3.ini', folder, f, 0) for f in spec['teddy_starts']]
+            runs += [('teddy +%d' % f, os.path.join(configs, 'tum_fr3.ini'), folder, f, 0) for f in spec['teddy_starts']]
         else:
             print('set_eval.py: %s absent, the teddy runs of set %s are skipped' % (folder, set_name))
     if spec.get('bonn'):
@@ -86,10 +92,11 @@ def runs_of(set_name, args):
                 print('set_eval.py: %s absent, its runs of set %s are skipped' % (folder, set_name))
                 continue
             short = name.replace('bonn_crowd_', '')
-            runs.append(('%s whole' % short, 'config/bonn.ini', folder, 0, 0))
-            runs += [('%s window +%d' % (short, s), 'config/bonn.ini', folder, s, 100)
+            runs.append(('%s whole' % short, os.path.join(configs, 'bonn.ini'), folder, 0, 0))
+            runs += [('%s window +%d' % (short, s), os.path.join(configs, 'bonn.ini'), folder, s, 100)
                      for s in range(0, frames_in(folder) - 100 + 1, 10)]
-            runs += [('%s start %d' % (short, s), 'config/bonn.ini', folder, s, 0) for s in (3, 6, 9, 12)]
+            runs += [('%s start %d' % (short, s), os.path.join(configs, 'bonn.ini'), folder, s, 0)
+                     for s in (3, 6, 9, 12)]
     return runs
 
 
@@ -98,6 +105,14 @@ def run(args):
     for set_name in sets:
         for scenario, seed in SETS[set_name].get('generated', []):
             generate_sequence(args.bin, args.data, scenario, seed, GENERATED_FRAMES)
+    with tempfile.TemporaryDirectory() as frozen:
+        args.config_dir = os.path.join(frozen, 'config')
+        shutil.copytree('config', args.config_dir)
+        run_frozen(args, sets)
+
+
+def run_frozen(args, sets):
+    """The runs of `sets` with args.config_dir's configs; writes args.out."""
     runs = [(s, r) for s in sets for r in runs_of(s, args)]
 
     def one(item):

@@ -79,6 +79,16 @@ class Sets(unittest.TestCase):
             self.assertEqual(set_eval.runs_of('bonn', args), [])
 
 
+    def test_the_runs_read_the_frozen_configs_when_given(self):
+        with tempfile.TemporaryDirectory() as shared:
+            os.makedirs(os.path.join(shared, set_eval.TEDDY))
+            args = argparse.Namespace(data='out/seeds', shared=shared, config_dir='/frozen/config')
+            configs = {r[1] for r in set_eval.runs_of('choice', args)}
+            self.assertEqual(configs, {'/frozen/config/default.ini', '/frozen/config/tum_fr3.ini'})
+            del args.config_dir
+            self.assertIn('config/default.ini', {r[1] for r in set_eval.runs_of('choice', args)})
+
+
 class CompareOverStreams(unittest.TestCase):
     def test_each_stream_is_scored_against_the_same_stream_and_failures_are_counted(self):
         base = {'a': {'ate': 0.02, 'ate_per_seed': [0.01, 0.02, 0.04], 'still': 0.05, 'lost': 0},
