@@ -92,8 +92,8 @@ void DepthAlignment::setReference(const cv::Mat& depth, double depth_units, cons
   }
 }
 
-void DepthAlignment::maskReference(const cv::Mat& mask) {
-  if (mask.empty() || reference_.empty()) return;
+void DepthAlignment::maskReference(const cv::Mat& mask, double stamp) {
+  if (mask.empty() || reference_.empty() || stamp != reference_stamp_) return;
   const int s = options_.stride;
   for (int r = 0; r < reference_rows_; ++r)
     for (int c = 0; c < reference_cols_; ++c)
@@ -111,7 +111,7 @@ void DepthAlignment::setCurrent(const cv::Mat& depth, double depth_units, const 
 }
 
 bool DepthAlignment::associate(const Plane& sample, const Isometry& T_world_cur, const PinholeCamera& camera,
-                               const DepthNoise& noise, Association& out) const {
+                               const RefinementOptions& noise, Association& out) const {
   const Eigen::Vector3d p = sample.point.cast<double>();
   const Eigen::Vector3d x = T_world_cur * p;
   const Eigen::Vector3d in_ref = T_reference_world_ * x;
@@ -135,13 +135,14 @@ bool DepthAlignment::associate(const Plane& sample, const Isometry& T_world_cur,
   const double spacing = s * view.norm() / camera.fx / std::max(0.2, std::abs(n.dot(view.normalized())));
   if (std::abs(along_normal) > options_.max_distance || (d - along_normal * n).norm() > 2 * spacing) return false;
   // Both frames' depth noise (the reference's point is a reading too).
-  out.sigma = std::sqrt(2.0) * noise.at(p.z());
+  out.sigma = std::sqrt(2.0) * noise.depthSigma(p.z());
   out.whitened = along_normal / out.sigma;
   out.normal = n;
   return std::abs(out.whitened) <= options_.max_whitened;
 }
 
-void DepthAlignment::keepAgreeing(const Isometry& T_cur_world, const PinholeCamera& camera, const DepthNoise& noise) {
+void DepthAlignment::keepAgreeing(const Isometry& T_cur_world, const PinholeCamera& camera,
+                                  const RefinementOptions& noise) {
   if (options_.guess_gate <= 0 || current_.empty()) return;
   const Isometry T_world_cur = T_cur_world.inverse();
   Association a;
@@ -153,7 +154,7 @@ void DepthAlignment::keepAgreeing(const Isometry& T_cur_world, const PinholeCame
                  current_.end());
 }
 
-int DepthAlignment::accumulate(const Isometry& T_cur_world, const PinholeCamera& camera, const DepthNoise& noise,
+int DepthAlignment::accumulate(const Isometry& T_cur_world, const PinholeCamera& camera, const RefinementOptions& noise,
                                Mat6& H, Vec6& g) const {
   if (current_.empty()) return 0;
   const Isometry T_world_cur = T_cur_world.inverse();

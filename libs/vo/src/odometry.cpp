@@ -226,7 +226,7 @@ void RgbdOdometry::distrustMaskedLandmarks(const cv::Mat& mask) {
     map_.distrust(id, last_stamp_);  // the keyframe's stamp: process() ends with it
   }
   maskable_.clear();
-  if (depth_reference_frame_ == frame_number_) depth_alignment_.maskReference(mask);
+  depth_alignment_.maskReference(mask, last_stamp_);  // only when the reference is this frame
 }
 
 // ------------------------------------------------------------------ steps
@@ -560,8 +560,7 @@ void RgbdOdometry::sampleDepthForPose(const features::FeatureSet& cur, const cv:
       dynamic.push_back(cur.keypoints[i].pt);
   }
   depth_alignment_.setCurrent(depth, depth_units, camera, stamp, dynamic, known_dynamic);
-  depth_alignment_.keepAgreeing(T_world_guess.inverse(), camera,
-                                {config_.refinement.depth_sigma_base, config_.refinement.depth_sigma_per_m2});
+  depth_alignment_.keepAgreeing(T_world_guess.inverse(), camera, config_.refinement);
 }
 
 void RgbdOdometry::keepDepthReference(const FrameTracking& out, const cv::Mat& depth, double depth_units,
@@ -572,7 +571,6 @@ void RgbdOdometry::keepDepthReference(const FrameTracking& out, const cv::Mat& d
   for (size_t i = 0; i < out.keypoints.size(); ++i)
     if (out.keypoint_labels[i] == MotionLabel::Dynamic || memory_[i] > 0) dynamic.push_back(out.keypoints[i]);
   depth_alignment_.setReference(depth, depth_units, camera, out.T_world_camera, stamp, dynamic, known_dynamic);
-  depth_reference_frame_ = frame_number_;
 }
 
 MotionPrior RgbdOdometry::motionPrior(const Isometry& T_world_pred, double frame_gap) const {

@@ -112,7 +112,7 @@ RefinementResult refinePose(const std::vector<PointObservation>& observations,
       double sq = r_px.squaredNorm();
       bool inlier = r_px.norm() <= options.huber;
       if (options.use_depth && ob.depth > 0) {
-        const double sigma = options.depth_sigma_base + options.depth_sigma_per_m2 * ob.depth * ob.depth;
+        const double sigma = options.depthSigma(ob.depth);
         const double r_z = (p.z() - ob.depth) / sigma;
         const Eigen::Matrix<double, 1, 6> J_z = dp.row(2) / sigma;
         const double w_z = ob.weight * huberWeight(r_z, options.huber);
@@ -140,7 +140,7 @@ RefinementResult refinePose(const std::vector<PointObservation>& observations,
       H.diagonal() += info;
       g += info.cwiseProduct(r);
     }
-    if (dense) dense->accumulate(result.T_cur_ref, camera, {options.depth_sigma_base, options.depth_sigma_per_m2}, H, g);
+    if (dense) dense->accumulate(result.T_cur_ref, camera, options, H, g);
     H.diagonal().array() += 1e-9;  // keeps degenerate directions solvable
     const Vec6 delta = -H.ldlt().solve(g);
     if (!delta.allFinite()) break;

@@ -45,7 +45,7 @@ Linearized linearize(const Isometry& T_cw, const Eigen::Vector3d& X, const Windo
   l.w_px = huberWeight(a_px, noise.huber);
   l.cost = huberCost(a_px, noise.huber);
   if (noise.use_depth && ob.depth > 0) {
-    const double sigma = noise.depth_sigma_base + noise.depth_sigma_per_m2 * ob.depth * ob.depth;
+    const double sigma = noise.depthSigma(ob.depth);
     dres_dp.row(2) << 0, 0, 1.0 / sigma;
     l.r.z() = (p.z() - ob.depth) / sigma;
     l.w_z = huberWeight(std::abs(l.r.z()), noise.huber);

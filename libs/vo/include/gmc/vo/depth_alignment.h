@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "gmc/gmc/types.h"
+#include "gmc/vo/pose_refinement.h"
 
 namespace gmc::vo {
 
@@ -44,13 +45,6 @@ struct DepthAlignmentOptions {
   }
 };
 
-/// Depth noise as the refinement models it: sigma(z) = base + per_m2 z^2.
-struct DepthNoise {
-  double base = 0.002;
-  double per_m2 = 0.002;
-  double at(double z) const { return base + per_m2 * z * z; }
-};
-
 class DepthAlignment {
  public:
   using Mat6 = Eigen::Matrix<double, 6, 6>;
@@ -68,10 +62,11 @@ class DepthAlignment {
   void setReference(const cv::Mat& depth, double depth_units, const PinholeCamera& camera,
                     const Isometry& T_world_camera, double stamp, const std::vector<cv::Point2f>& dynamic_pixels,
                     const cv::Mat& known_dynamic = cv::Mat());
-  /// Drops the reference's samples inside its frame's dynamic mask (CV_8UC1, nonzero =
-  /// dynamic; the walkers' untextured parts, which no keypoint marks): a pixel of the next
-  /// frame that lands there has no reference. An empty mask changes nothing.
-  void maskReference(const cv::Mat& mask);
+  /// Drops the reference's samples inside the dynamic mask (CV_8UC1, nonzero = dynamic;
+  /// the walkers' untextured parts, which no keypoint marks) of the frame at `stamp`, when
+  /// that frame is the reference: a pixel of the next frame that lands there has no
+  /// reference. An empty mask, or another frame's, changes nothing.
+  void maskReference(const cv::Mat& mask, double stamp);
   /// Samples the current frame's pixels (camera frame) away from its dynamic keypoints
   /// and off the known dynamic pixels (optional CV_8UC1 mask, nonzero = dynamic); none
   /// when disabled or without a reference younger than max_age_seconds.
@@ -80,13 +75,13 @@ class DepthAlignment {
   /// Keeps only the current pixels within guess_gate sigmas of their reference plane at
   /// T_cur_world (the keypoints' guess): the depth then refines the keypoints' motion and
   /// cannot lead it onto a walker that moved (nothing when guess_gate is 0).
-  void keepAgreeing(const Isometry& T_cur_world, const PinholeCamera& camera, const DepthNoise& noise);
+  void keepAgreeing(const Isometry& T_cur_world, const PinholeCamera& camera, const RefinementOptions& noise);
   /// Sampled current pixels that will be used (on a flat surface, away from walkers).
   size_t currentSize() const { return current_.size(); }
 
   /// Adds the weighted, whitened point-to-plane residuals at T_cur_world (a left
   /// perturbation of it, as in refinePose) to H and g; returns the pixels associated.
-  int accumulate(const Isometry& T_cur_world, const PinholeCamera& camera, const DepthNoise& noise, Mat6& H,
+  int accumulate(const Isometry& T_cur_world, const PinholeCamera& camera, const RefinementOptions& noise, Mat6& H,
                  Vec6& g) const;
 
  private:
@@ -109,7 +104,7 @@ class DepthAlignment {
   /// The sample's reference plane at T_world_cur, and its residual; false when it has
   /// none (outside, no plane, facing away, too far) or lies beyond max_whitened.
   bool associate(const Plane& sample, const Isometry& T_world_cur, const PinholeCamera& camera,
-                 const DepthNoise& noise, Association& out) const;
+                 const RefinementOptions& noise, Association& out) const;
   DepthAlignmentOptions options_;
   std::vector<Plane> reference_;  ///< the reference's samplePlanes(), in the world
   int reference_cols_ = 0, reference_rows_ = 0;

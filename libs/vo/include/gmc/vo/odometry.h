@@ -360,7 +360,6 @@ class RgbdOdometry {
   FeatureTracks tracks_;                ///< the keypoints' frame-to-frame tracks in the world
   FreeSpaceHistory free_space_;         ///< where recent views saw through
   DepthAlignment depth_alignment_;      ///< the last tracked frame's depth as planes, for the pose
-  long depth_reference_frame_ = -1;     ///< the frame number of depth_alignment_'s reference
   std::vector<std::pair<int, cv::Point2f>> maskable_;  ///< this frame's new landmarks (id, pixel)
                                                       ///< that its dynamic mask may distrust
 };

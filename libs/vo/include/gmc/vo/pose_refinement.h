@@ -18,6 +18,8 @@ struct RefinementOptions {
   double pixel_sigma = 1.0;        ///< px, keypoint position noise
   double depth_sigma_base = 0.002;  ///< m, depth noise at 0 m ...
   double depth_sigma_per_m2 = 0.002;  ///< ... plus this times z^2 (Kinect-like)
+  /// The depth noise at range z (m).
+  double depthSigma(double z) const { return depth_sigma_base + depth_sigma_per_m2 * z * z; }
   double huber = 2.0;              ///< Huber threshold on whitened residuals
   bool use_depth = true;           ///< add the depth residual to the reprojection residual
 
