@@ -10,7 +10,10 @@ point of the world: the ground-truth poses at the two stamps take them to world 
 within --tolerance (3 cm + 1 cm * z^2, z the current depth: depth noise of both readings
 and the ground truth's own error). The estimated poses play no part, so a run that
 drifted is judged as fairly as one that did not. A point on a person who stood still
-between the two stamps is true too: it is what the pose may rest on.
+between the two stamps is true too: it is what the pose may rest on. The 3-D tolerance
+cannot see a person who moves 2 cm a frame 2 m away (5.9 cm there); --pixels PX keeps it
+along the viewing ray (depth noise) and allows only PX pixels across it (--focal),
+where such a walker is 5-6 px off (doc/odometry.md, forty-first round).
 
 Prints, per tracking state (tracking, lost, ...), the frames, the matches, the true ones
 (their share and the median per frame), of the matches that went into the pose the true
@@ -50,9 +53,12 @@ def world_point(pose, point):
     return tuple(r[k] + position[k] for k in range(3))
 
 
-def judge(rows, gt, base, per_m2):
+def judge(rows, gt, base, per_m2, pixels=None, focal=525.0):
     """Per row: True / False (the two observations are / are not one world point), or
-    None when the ground truth does not cover one of the two stamps."""
+    None when the ground truth does not cover one of the two stamps. With `pixels` the
+    world distance is split along the current viewing ray (within base + per_m2 z^2, the
+    depth noise) and across it (within `pixels` px at `focal`): a slow walker moves
+    centimetres a frame, inside the depth tolerance but several pixels sideways."""
     stamps = [g[0] for g in gt]
     cache = {}
 
@@ -68,8 +74,16 @@ def judge(rows, gt, base, per_m2):
             verdicts.append(None)
             continue
         z = r['point'][2]
-        distance = math.dist(world_point(now, r['point']), world_point(then, r['origin']))
-        verdicts.append(distance <= base + per_m2 * z * z)
+        a, b = world_point(now, r['point']), world_point(then, r['origin'])
+        distance = math.dist(a, b)
+        if pixels is None:
+            verdicts.append(distance <= base + per_m2 * z * z)
+            continue
+        rng = math.hypot(*r['point'])
+        ray = rotate(now[1], tuple(c / rng for c in r['point']))
+        along = sum((a[k] - b[k]) * ray[k] for k in range(3))
+        across_px = math.sqrt(max(0.0, distance * distance - along * along)) / rng * focal
+        verdicts.append(abs(along) <= base + per_m2 * z * z and across_px <= pixels)
     return verdicts
 
 
@@ -165,6 +179,9 @@ def main():
     p.add_argument('gt', help="ground truth in TUM format, the camera's poses")
     p.add_argument('--tolerance', default='0.03,0.01', metavar='BASE,PER_M2',
                    help='m: a match is true within BASE + PER_M2 * z^2 (default 0.03,0.01)')
+    p.add_argument('--pixels', type=float, metavar='PX',
+                   help='split the tolerance: --tolerance along the viewing ray, PX pixels across it')
+    p.add_argument('--focal', type=float, default=525.0, help='--pixels: focal length in px (default 525)')
     p.add_argument('--frames', action='store_true', help='first one line per frame')
     p.add_argument('--split', metavar='FIRST-LAST',
                    help="also split those frames' matches in the pose by evidence and verdict")
@@ -194,7 +211,9 @@ def main():
     gt = read_poses(args.gt)
     if not gt:
         sys.exit('match_truth.py: %s: no poses' % args.gt)
-    verdicts = judge(rows, gt, base, per_m2)
+    if args.pixels is not None and (args.pixels <= 0 or args.focal <= 0):
+        sys.exit('match_truth.py: --pixels and --focal must be positive')
+    verdicts = judge(rows, gt, base, per_m2, args.pixels, args.focal)
     frames = per_frame(rows, verdicts)
     if args.frames:
         print('frame state       matches  true  in pose  true in pose  inliers  true inliers')
@@ -203,8 +222,9 @@ def main():
             print('%5d %-11s %7d %5d %8d %13d %8d %13d' % (frame, f['state'], f['matches'], f['true'], f['in_pose'],
                                                          f['true_in_pose'], f['inliers'], f['true_inliers']))
     uncovered = sum(f['uncovered'] for f in frames.values())
-    print('map matches judged against %s (true within %.3f m + %.3f m * z^2)%s' %
-          (args.gt, base, per_m2, '; %d outside the ground truth, not counted' % uncovered if uncovered else ''))
+    across = ' along the ray, %g px across it' % args.pixels if args.pixels is not None else ''
+    print('map matches judged against %s (true within %.3f m + %.3f m * z^2%s)%s' %
+          (args.gt, base, per_m2, across, '; %d outside the ground truth, not counted' % uncovered if uncovered else ''))
     print('state       frames  matches    true (share)   true per frame, median  in pose  true (share)    '
           'inliers  true (share)')
     for state, s in sorted(summary(frames).items()):

@@ -102,6 +102,32 @@ class MatchTruth(unittest.TestCase):
             self.assertEqual(r.returncode, 0, r.stderr)
             self.assertEqual(state_line(r.stdout, 'tracking')[3], '2')
 
+    def test_pixels_across_the_ray_catch_a_slow_walker_and_keep_depth_noise(self):
+        with tempfile.TemporaryDirectory() as root:
+            run, gt = write_run(root)
+            path, _ = match_lines(run)
+            # Frame 1 (camera at x = 0.25, placed from x = 0 at t = 100): a walker 2 m away that
+            # moved 2 cm sideways (inside 0.03 + 0.01 * 2^2 m, 5.25 px at f = 525), and the wall
+            # point placed 2 cm too far along its ray (depth noise: true either way).
+            k = 1 + 0.02 / 10 ** 0.5
+            with open(path, 'a') as f:
+                f.write('1,100.500000,tracking,320,240,-0.230000,0,2,0,0,2,100.000000,S,0,1,1\n')
+                f.write('1,100.500000,tracking,320,240,0.750000,0,3,%.6f,0,%.6f,100.000000,S,0,1,1\n' % (k, 3 * k))
+            r = run_script(run, gt)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(state_line(r.stdout, 'tracking')[3], '3')  # of 4 judged
+            r = run_script(run, gt, '--pixels', '3')
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(state_line(r.stdout, 'tracking')[3], '2')
+            self.assertIn('3 px across it', r.stdout)
+            r = run_script(run, gt, '--pixels', '6')
+            self.assertEqual(state_line(r.stdout, 'tracking')[3], '3')
+            r = run_script(run, gt, '--pixels', '3', '--focal', '200')  # 2 px at f = 200
+            self.assertEqual(state_line(r.stdout, 'tracking')[3], '3')
+            r = run_script(run, gt, '--pixels', '0')
+            self.assertNotEqual(r.returncode, 0)
+            self.assertIn('--pixels', r.stderr)
+
     def test_frames_resting_on_false_inliers_are_counted(self):
         with tempfile.TemporaryDirectory() as root:
             run, gt = write_run(root)
