@@ -55,7 +55,8 @@ std::uint64_t Xorshift64::seedFor(std::uint64_t built_in, std::uint64_t run_seed
 
 Isometry ransacRigid(const std::vector<int>& pool, int iterations, Xorshift64& rng,
                      const std::function<Eigen::Vector3d(int)>& src, const std::function<Eigen::Vector3d(int)>& dst,
-                     const std::function<double(const Isometry&)>& score, const Isometry& fallback) {
+                     const std::function<double(const Isometry&)>& score, const Isometry& fallback,
+                     const std::function<Isometry(const Isometry&)>& refine) {
   Isometry best_T = fallback;
   double best = -1;
   Eigen::Matrix3Xd a(3, 3), b(3, 3);
@@ -69,7 +70,14 @@ Isometry ransacRigid(const std::vector<int>& pool, int iterations, Xorshift64& r
     Isometry T;
     if (!fitRigid(a, b, T)) continue;
     const double s = score(T);
-    if (s > best) best = s, best_T = T;
+    if (s <= best) continue;
+    best = s, best_T = T;
+    if (!refine) continue;
+    // Local optimisation (Chum et al. 2003): a new best is refitted on its inliers, so
+    // the winner is the optimum of its basin, not whichever noisy sample hit it first.
+    const Isometry refined = refine(T);
+    const double r = score(refined);
+    if (r >= best) best = r, best_T = refined;  // a tie goes to the least-squares fit
   }
   return best_T;
 }
@@ -125,7 +133,30 @@ Isometry BackgroundSelector::ransac(const std::vector<MotionMatch>& matches, con
   return ransacRigid(
       pool, options_.ransac_iterations, rng_, [&](int i) { return matches[static_cast<size_t>(i)].point_cur; },
       [&](int i) { return matches[static_cast<size_t>(i)].point_ref; },
-      [&](const Isometry& T) { return support(T); }, fallback);
+      [&](const Isometry& T) { return support(T); }, fallback,
+      options_.ransac_local_optimisation ? [this](const Isometry& T) { return refitWeighted(T); }
+                                         : std::function<Isometry(const Isometry&)>{});
+}
+
+Isometry BackgroundSelector::refitWeighted(Isometry T) const {
+  for (int round = 0; round < 3; ++round) {
+    const Eigen::Matrix3d R = T.linear();
+    const Eigen::Vector3d t = T.translation();
+    std::vector<Eigen::Index> in;
+    for (Eigen::Index k = 0; k < weighted_.cur.cols(); ++k)
+      if ((weighted_.ref.col(k) - (R * weighted_.cur.col(k) + t)).squaredNorm() <
+          weighted_.threshold_sq[static_cast<size_t>(k)])
+        in.push_back(k);
+    if (in.size() < 6) break;
+    const auto n = static_cast<Eigen::Index>(in.size());
+    Eigen::Matrix3Xd src(3, n), dst(3, n);
+    for (Eigen::Index k = 0; k < n; ++k) {
+      src.col(k) = weighted_.cur.col(in[static_cast<size_t>(k)]);
+      dst.col(k) = weighted_.ref.col(in[static_cast<size_t>(k)]);
+    }
+    if (!fitRigid(src, dst, T)) break;
+  }
+  return T;
 }
 
 Isometry BackgroundSelector::polish(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,

@@ -18,6 +18,7 @@ namespace gmc::vo {
 /// INI section [Background].
 struct BackgroundOptions {
   int ransac_iterations = 150;        ///< 3-point hypotheses per pool
+  bool ransac_local_optimisation = false;  ///< refit each new best on its inliers (LO-RANSAC)
   double inlier_base = 0.005;         ///< m, 3-D inlier threshold at 0 m ...
   double inlier_per_m2 = 0.002;       ///< ... plus this times depth^2 (Kinect noise)
   double prior_translation = 0.01;    ///< m, std dev of the motion prior per 1/30 s: a
@@ -48,6 +49,8 @@ struct BackgroundOptions {
   template <class V>
   void visit(V& v) {
     v("ransac_iterations", ransac_iterations, 0, 100000, "3-point hypotheses per sampling pool");
+    v("ransac_local_optimisation", ransac_local_optimisation,
+      "refit each new best hypothesis on its inliers and keep the refit when it scores higher (LO-RANSAC)");
     v("inlier_base", inlier_base, 1e-4, 10.0, "m, 3-D inlier threshold at zero depth");
     v("inlier_per_m2", inlier_per_m2, 0.0, 10.0, "inlier threshold growth per depth^2");
     v("prior_translation", prior_translation, 1e-4, 100.0,
@@ -94,10 +97,12 @@ class Xorshift64 {
 /// samples (skipped when an index repeats or the three source points are nearly
 /// collinear, which gives unstable rotations), each fitted by fitRigid and scored by
 /// `score`. The first best-scoring T, or `fallback` when no sample was usable (or the
-/// pool has fewer than three).
+/// pool has fewer than three). With `refine`, each new best is also refined and the
+/// refined T scored (LO-RANSAC).
 Isometry ransacRigid(const std::vector<int>& pool, int iterations, Xorshift64& rng,
                      const std::function<Eigen::Vector3d(int)>& src, const std::function<Eigen::Vector3d(int)>& dst,
-                     const std::function<double(const Isometry&)>& score, const Isometry& fallback);
+                     const std::function<double(const Isometry&)>& score, const Isometry& fallback,
+                     const std::function<Isometry(const Isometry&)>& refine = {});
 
 /// Per match: how far its landmark is trusted (0 suspect .. 1 static evidence), whether
 /// it has static evidence, and whether it is known to be on a moving object (given from
@@ -156,6 +161,7 @@ class BackgroundSelector {
                       const std::vector<int>& weighted);
   /// Weighted number of matches within the 3-D inlier threshold under T_ref_cur.
   double support(const Isometry& T_ref_cur) const;
+  Isometry refitWeighted(Isometry T) const;  ///< least squares on T's inliers among the gathered weighted matches
   /// Samples from `pool`, scored on weighted_ (gatherWeighted first).
   Isometry ransac(const std::vector<MotionMatch>& matches, const std::vector<int>& pool, const Isometry& fallback);
   Isometry polish(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
