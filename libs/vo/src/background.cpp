@@ -128,35 +128,14 @@ double BackgroundSelector::support(const Isometry& T_ref_cur) const {
   return s;
 }
 
-Isometry BackgroundSelector::ransac(const std::vector<MotionMatch>& matches, const std::vector<int>& pool,
-                                   const Isometry& fallback) {
+Isometry BackgroundSelector::ransac(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
+                                   const std::vector<int>& pool, const Isometry& fallback) {
   return ransacRigid(
       pool, options_.ransac_iterations, rng_, [&](int i) { return matches[static_cast<size_t>(i)].point_cur; },
       [&](int i) { return matches[static_cast<size_t>(i)].point_ref; },
       [&](const Isometry& T) { return support(T); }, fallback,
-      options_.ransac_local_optimisation ? [this](const Isometry& T) { return refitWeighted(T); }
+      options_.ransac_local_optimisation ? [&](const Isometry& T) { return polish(matches, weight, T); }
                                          : std::function<Isometry(const Isometry&)>{});
-}
-
-Isometry BackgroundSelector::refitWeighted(Isometry T) const {
-  for (int round = 0; round < 3; ++round) {
-    const Eigen::Matrix3d R = T.linear();
-    const Eigen::Vector3d t = T.translation();
-    std::vector<Eigen::Index> in;
-    for (Eigen::Index k = 0; k < weighted_.cur.cols(); ++k)
-      if ((weighted_.ref.col(k) - (R * weighted_.cur.col(k) + t)).squaredNorm() <
-          weighted_.threshold_sq[static_cast<size_t>(k)])
-        in.push_back(k);
-    if (in.size() < 6) break;
-    const auto n = static_cast<Eigen::Index>(in.size());
-    Eigen::Matrix3Xd src(3, n), dst(3, n);
-    for (Eigen::Index k = 0; k < n; ++k) {
-      src.col(k) = weighted_.cur.col(in[static_cast<size_t>(k)]);
-      dst.col(k) = weighted_.ref.col(in[static_cast<size_t>(k)]);
-    }
-    if (!fitRigid(src, dst, T)) break;
-  }
-  return T;
 }
 
 Isometry BackgroundSelector::polish(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
@@ -227,9 +206,9 @@ void BackgroundSelector::select(const std::vector<MotionMatch>& matches, const M
   };
   std::vector<Candidate> candidates{{polish(matches, trust.weight, predicted), "prediction"}};
   if (static_pool.size() >= 6)
-    candidates.push_back({polish(matches, trust.weight, ransac(matches, static_pool, predicted)),
+    candidates.push_back({polish(matches, trust.weight, ransac(matches, trust.weight, static_pool, predicted)),
                           "ransac_static"});
-  const Isometry T_all = polish(matches, trust.weight, ransac(matches, trusted_pool, predicted));
+  const Isometry T_all = polish(matches, trust.weight, ransac(matches, trust.weight, trusted_pool, predicted));
   candidates.push_back({T_all, "ransac_all"});
   const bool young = context.young_map && static_cast<int>(static_pool.size()) < options_.min_static_landmarks;
   if (young && options_.young_second_motion) {
@@ -237,7 +216,7 @@ void BackgroundSelector::select(const std::vector<MotionMatch>& matches, const M
     for (int i : trusted_pool)
       if (!inlier(matches[static_cast<size_t>(i)], T_all, 2.0)) rest.push_back(i);
     if (rest.size() >= 6)
-      candidates.push_back({polish(matches, trust.weight, ransac(matches, rest, predicted)),
+      candidates.push_back({polish(matches, trust.weight, ransac(matches, trust.weight, rest, predicted)),
                             "ransac_rest"});
   }
 

@@ -50,7 +50,7 @@ struct BackgroundOptions {
   void visit(V& v) {
     v("ransac_iterations", ransac_iterations, 0, 100000, "3-point hypotheses per sampling pool");
     v("ransac_local_optimisation", ransac_local_optimisation,
-      "refit each new best hypothesis on its inliers and keep the refit when it scores higher (LO-RANSAC)");
+      "refit each new best hypothesis on its inliers and keep the refit when it scores at least as high (LO-RANSAC)");
     v("inlier_base", inlier_base, 1e-4, 10.0, "m, 3-D inlier threshold at zero depth");
     v("inlier_per_m2", inlier_per_m2, 0.0, 10.0, "inlier threshold growth per depth^2");
     v("prior_translation", prior_translation, 1e-4, 100.0,
@@ -161,9 +161,10 @@ class BackgroundSelector {
                       const std::vector<int>& weighted);
   /// Weighted number of matches within the 3-D inlier threshold under T_ref_cur.
   double support(const Isometry& T_ref_cur) const;
-  Isometry refitWeighted(Isometry T) const;  ///< least squares on T's inliers among the gathered weighted matches
-  /// Samples from `pool`, scored on weighted_ (gatherWeighted first).
-  Isometry ransac(const std::vector<MotionMatch>& matches, const std::vector<int>& pool, const Isometry& fallback);
+  /// Samples from `pool`, scored on weighted_ (gatherWeighted first); with LO-RANSAC each
+  /// new best is polished on the weighted matches, the set support() counts.
+  Isometry ransac(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
+                  const std::vector<int>& pool, const Isometry& fallback);
   Isometry polish(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
                   Isometry T) const;
   /// Neighbour pairs (static, dynamic) where the static one is in front / behind.
