@@ -18,7 +18,8 @@ skipped with a message. Each run is gmc-rgbd-mapping without the map, then gmc-e
 
   scripts/set_eval.py run out/sets/base.json --sets choice,bonn [--set Section.key=value]
       [--set-generated Section.key=value] [--random-seeds N] [--bin build/bin] [--jobs 2]
-  scripts/set_eval.py compare out/sets/base.json out/sets/new.json
+  scripts/set_eval.py compare out/sets/base.json out/sets/new.json [--stream-moves 0.05]
+  scripts/set_eval.py windows out/sets/base.json
 
 With --random-seeds N every run is repeated with [Odometry] random_seed = 0 .. N-1 (other,
 equally valid RANSAC sampling streams) and its figure is the median over them (all of
@@ -29,7 +30,14 @@ them are kept in the file): a null change moves a quarter of single runs by more
 or worse, the geometric mean of the ratios new / base, with several streams that mean
 per stream (stream k against stream k) and again without the stream-runs above 0.5 m in
 either file (a run that flips between two outcomes a hundred times apart sways a whole
-stream's mean), the count of stream-runs above 0.5 m, and the runs that moved.
+stream's mean), the count of stream-runs above 0.5 m, and the runs that moved; with
+--stream-moves F also every single stream-run that moved by more than F (a change that
+touches one stream of one run hides in the medians).
+
+"windows" prints, from a file with the bonn set, what #14's first acceptance item asks per
+folder and per sampling stream: the whole folder's ATE against its standing still, the
+100-frame windows' median and max, how many windows end below their standing still and
+which do not, and the starts' range.
 
 "run" reads config/ as it is when the set starts (a copy in a temporary folder): a set
 takes ten minutes or more, and a key added to config/default.ini meanwhile would make an
@@ -203,6 +211,67 @@ def compare(args):
                 FAILED, ' / '.join('%.3f' % g for g in c['per_stream_settled'])))
         for n in sorted(c['better'] + c['worse'], key=lambda n: -abs(math.log(c['ratios'][n]))):
             print('  %-28s %.4f -> %.4f' % (n, base[set_name][n]['ate'], new[set_name][n]['ate']))
+        if args.stream_moves is not None:
+            for n, k, a, b in stream_moves(base[set_name], new[set_name], args.stream_moves):
+                print('  stream %d %-19s %.4f -> %.4f' % (k, n, a, b))
+
+
+def stream_moves(base, new, share):
+    """(run, stream, base ATE, new ATE) of every stream-run in both that moved by more than `share`."""
+    moved = []
+    for name in (n for n in base if n in new):
+        pairs = zip(base[name].get('ate_per_seed', [base[name]['ate']]), new[name].get('ate_per_seed', [new[name]['ate']]))
+        moved += [(name, k, a, b) for k, (a, b) in enumerate(pairs) if abs(ratio(b, a) - 1) > share]
+    return moved
+
+
+def window_table(bonn):
+    """Per folder and stream of the bonn set: whole (ATE, still), windows (median, max, below
+    still, count, the ones that are not), starts (min, max)."""
+    table = {}
+    for name, figures in bonn.items():
+        folder, kind = name.split(' ', 1)
+        for k, ate in enumerate(figures.get('ate_per_seed', [figures['ate']])):
+            row = table.setdefault(folder, {}).setdefault(k, {'windows': [], 'starts': []})
+            if kind == 'whole':
+                row['whole'] = (ate, figures['still'])
+            elif kind.startswith('window +'):
+                row['windows'].append((int(kind[len('window +'):]), ate, figures['still']))
+            elif kind.startswith('start '):
+                row['starts'].append(ate)
+    out = {}
+    for folder, streams in table.items():
+        for k, row in streams.items():
+            windows = sorted(row['windows'])
+            ates = [a for _, a, _ in windows]
+            out.setdefault(folder, {})[k] = {
+                'whole': row.get('whole'),
+                'window_median': statistics.median(ates) if ates else None,
+                'window_max': max(ates) if ates else None,
+                'windows': len(windows),
+                'below_still': sum(1 for _, a, still in windows if a < still),
+                'above_still': [(start, a, still) for start, a, still in windows if a >= still],
+                'starts': (min(row['starts']), max(row['starts'])) if row['starts'] else None}
+    return out
+
+
+def windows(args):
+    with open(args.file) as f:
+        runs = json.load(f)['runs']
+    if 'bonn' not in runs:
+        sys.exit('set_eval.py: %s holds no bonn set (run it with --sets bonn)' % args.file)
+    for folder, streams in sorted(window_table(runs['bonn']).items()):
+        for k, r in sorted(streams.items()):
+            line = '%s stream %d:' % (folder, k)
+            if r['whole']:
+                line += ' whole %.4f (standing still %.4f),' % r['whole']
+            if r['windows']:
+                line += ' windows median %.4f max %.4f, below standing still %d of %d' % (
+                    r['window_median'], r['window_max'], r['below_still'], r['windows'])
+                line += ''.join('; +%d %.4f against %.4f' % w for w in r['above_still'])
+            if r['starts']:
+                line += ', starts %.4f-%.4f' % r['starts']
+            print(line)
 
 
 def main():
@@ -224,6 +293,10 @@ def main():
     c = sub.add_parser('compare', help='score a new run of the sets against a base')
     c.add_argument('base')
     c.add_argument('new')
+    c.add_argument('--stream-moves', type=float, default=None, metavar='F',
+                   help='also print every stream-run that moved by more than this share (e.g. 0.05)')
+    w = sub.add_parser('windows', help="the bonn set's whole folders and windows against standing still, per stream")
+    w.add_argument('file')
     args = p.parse_args()
     if args.command == 'run':
         unknown = [s for s in args.sets.split(',') if s not in SETS]
@@ -232,6 +305,8 @@ def main():
         if args.random_seeds < 1 or args.jobs < 1:
             sys.exit('set_eval.py: --random-seeds and --jobs must be at least 1')
         run(args)
+    elif args.command == 'windows':
+        windows(args)
     else:
         compare(args)
 

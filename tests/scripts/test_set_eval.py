@@ -124,5 +124,51 @@ class CompareCommand(unittest.TestCase):
         self.assertIn('0.0100 -> 0.0200', out)
 
 
+class StreamMoves(unittest.TestCase):
+    def test_every_stream_run_that_moved_beyond_the_share_is_listed(self):
+        base = {'a': {'ate': 0.02, 'ate_per_seed': [0.010, 0.020, 0.040]}, 'b': {'ate': 0.02, 'ate_per_seed': [0.02] * 3}}
+        new = {'a': {'ate': 0.02, 'ate_per_seed': [0.0104, 0.020, 0.030]}, 'b': {'ate': 0.02, 'ate_per_seed': [0.02] * 3},
+               'c': {'ate': 0.9, 'ate_per_seed': [0.9] * 3}}
+        self.assertEqual(set_eval.stream_moves(base, new, 0.05), [('a', 2, 0.040, 0.030)])
+        self.assertEqual(set_eval.stream_moves(base, new, 0.03), [('a', 0, 0.010, 0.0104), ('a', 2, 0.040, 0.030)])
+
+
+def bonn_runs():
+    """Two streams of one folder: stream 1's window +10 ends above its standing still."""
+    def r(ates, still):
+        return {'ate': sorted(ates)[len(ates) // 2], 'ate_per_seed': ates, 'still': still, 'lost': 0}
+    return {'301_460 whole': r([0.020, 0.025], 0.052), '301_460 window +0': r([0.010, 0.012], 0.060),
+            '301_460 window +10': r([0.030, 0.055], 0.050), '301_460 window +20': r([0.020, 0.016], 0.040),
+            '301_460 start 3': r([0.021, 0.030], 0.051), '301_460 start 6': r([0.024, 0.019], 0.049)}
+
+
+class WindowTable(unittest.TestCase):
+    def test_each_stream_gets_its_whole_folder_windows_against_standing_still_and_starts(self):
+        t = set_eval.window_table(bonn_runs())['301_460']
+        self.assertEqual(t[0]['whole'], (0.020, 0.052))
+        self.assertEqual((t[0]['window_median'], t[0]['window_max']), (0.020, 0.030))
+        self.assertEqual((t[0]['below_still'], t[0]['windows'], t[0]['above_still']), (3, 3, []))
+        self.assertEqual(t[0]['starts'], (0.021, 0.024))
+        self.assertEqual((t[1]['window_median'], t[1]['window_max']), (0.016, 0.055))
+        self.assertEqual((t[1]['below_still'], t[1]['above_still']), (2, [(10, 0.055, 0.050)]))
+        self.assertEqual(t[1]['starts'], (0.019, 0.030))
+
+    def test_the_command_prints_a_line_per_stream_and_needs_the_bonn_set(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, 'set.json')
+            with open(path, 'w') as f:
+                json.dump({'runs': {'bonn': bonn_runs()}}, f)
+            out = subprocess.run([sys.executable, SCRIPT, 'windows', path], check=True, capture_output=True,
+                                 text=True).stdout.splitlines()
+            self.assertEqual(len(out), 2)
+            self.assertIn('301_460 stream 1: whole 0.0250 (standing still 0.0520)', out[1])
+            self.assertIn('below standing still 2 of 3; +10 0.0550 against 0.0500', out[1])
+            with open(path, 'w') as f:
+                json.dump({'runs': {'choice': {}}}, f)
+            bad = subprocess.run([sys.executable, SCRIPT, 'windows', path], capture_output=True, text=True)
+            self.assertNotEqual(bad.returncode, 0)
+            self.assertIn('no bonn set', bad.stderr)
+
+
 if __name__ == '__main__':
     unittest.main()
