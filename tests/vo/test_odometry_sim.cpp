@@ -353,6 +353,41 @@ TEST(OdometrySim, ALostFrameInAYoungMapStandsStillOnlyAfterWalkers) {
   EXPECT_GT(old_always, 1e-3);
 }
 
+/// Tracks `seen` frames of a static scene under a moving camera, then a blank frame;
+/// returns that first lost frame.
+gmc::vo::FrameTracking loseAfter(int seen, int unheld_start_frames, double still_share) {
+  const gmc::sim::Simulator sim(emptyHalfsphere());
+  gmc::vo::OdometryConfig config;
+  config.odometry.young_map_lost_still_share = still_share;
+  config.odometry.unheld_start_frames = unheld_start_frames;
+  gmc::vo::RgbdOdometry vo(config);
+  for (int i = 0; i < seen; ++i)
+    EXPECT_NE(trackSimFrame(sim, vo, i).tracking.state, gmc::vo::TrackingState::Lost) << i;
+  return trackSimFrame(sim, vo, seen, true).tracking;
+}
+
+// A map lost a few frames after its start, before any static evidence and with walkers
+// in view (the still rule above; its share at 0 here stands in for the walkers), was
+// never held by the room: its tracked frames go back to the start pose, as lost frames
+// (bridged if the map holds again). Past `unheld_start_frames`, or without walkers,
+// nothing is revised.
+TEST(OdometrySim, AMapLostBeforeAnythingHeldItGoesBackToItsStart) {
+  const auto unheld = loseAfter(6, 12, 0.0);
+  ASSERT_EQ(unheld.state, gmc::vo::TrackingState::Lost);
+  EXPECT_LT(unheld.T_world_camera.translation().norm(), 1e-9);  // the first frame's pose
+  std::set<long> at_start;
+  for (const auto& r : unheld.revised)
+    if (r.T_world_camera.translation().norm() < 1e-9) at_start.insert(r.frame_number);
+  EXPECT_EQ(at_start, (std::set<long>{2, 3, 4, 5, 6}));
+  const auto held_longer = loseAfter(20, 12, 0.0);
+  EXPECT_GT(held_longer.T_world_camera.translation().norm(), 1e-3);
+  EXPECT_TRUE(held_longer.revised.empty() || held_longer.revised.back().T_world_camera.translation().norm() > 1e-3);
+  const auto without_walkers = loseAfter(6, 12, 0.2);
+  EXPECT_GT(without_walkers.T_world_camera.translation().norm(), 1e-3);
+  const auto off = loseAfter(6, 0, 0.0);
+  EXPECT_GT(off.T_world_camera.translation().norm(), 1e-3);
+}
+
 /// Keyframes whose landmarks are alive in the odometry's map, after tracking 20 frames of
 /// a static scene and then frames the map cannot explain (a fresh noise image each, the
 /// depth kept) until the odometry re-anchors.

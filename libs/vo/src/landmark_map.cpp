@@ -156,10 +156,14 @@ void LandmarkMap::observe(const std::vector<LandmarkObservation>& observations,
   }
 }
 
+void LandmarkMap::dropKeyframesAfter(int keyframe) {
+  for (auto& l : landmarks_)
+    if (l.keyframe > keyframe) l.alive = false;
+}
+
 void LandmarkMap::judgeStart(const std::vector<std::pair<int, Eigen::Vector3d>>& consensus,
                              const std::vector<int>& outside, int first_keyframe, double since, double stamp) {
-  for (auto& l : landmarks_)
-    if (l.keyframe > first_keyframe) l.alive = false;
+  dropKeyframesAfter(first_keyframe);
   for (const auto& [id, position] : consensus) {
     Landmark& l = landmarks_[static_cast<size_t>(id)];
     l.position = position;

@@ -173,6 +173,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   out.times.refine += msSince(t0);
   const bool after_lost_frames = lost_streak_ > 0;
   decideTracking(refined, orthonormalized(refined.T_cur_ref).inverse(), choice_.trustworthy, T_world_pred, out);
+  revertUnheldStart(out);
   t0 = Clock::now();
   judgeStart(stamp, out);  // a young map's frames judged together: with the hypotheses' time
   out.times.guess += msSince(t0);
@@ -274,6 +275,7 @@ void RgbdOdometry::startConsensus(double stamp) {
     if (map_[static_cast<int>(id)].alive) anchors.emplace_back(static_cast<int>(id), map_[static_cast<int>(id)].position);
   consensus_.start(anchors);
   consensus_start_ = {frame_number_, stamp, window_keyframes_.back().T_world_kf};
+  start_frames_.clear();
   map_first_keyframe_ = keyframe_count_ - 1;
 }
 
@@ -325,13 +327,51 @@ void RgbdOdometry::adoptConsensus(const ConsensusResult& consensus, double stamp
   velocity_known_ = true;
   // The landmarks: the consensus is where the first keyframe put them; the rest moved.
   map_.judgeStart(consensus.consensus, consensus.outside, map_first_keyframe_, map_start_stamp_, stamp);
-  // The window keeps the map's first keyframe only (when it still holds it: every keyframe
-  // of this map is in the window).
+  keepFirstKeyframeOnly();
+  pose_landmarks_ = consensus.inliers_latest;
+  start_frames_.clear();
+}
+
+void RgbdOdometry::keepFirstKeyframeOnly() {
+  // Only when the window still holds the map's first keyframe: every keyframe of this map is in it.
   const int map_keyframes = keyframe_count_ - map_first_keyframe_;
   if (window_keyframes_.size() > 1 && map_keyframes <= static_cast<int>(window_keyframes_.size()))
     window_keyframes_.erase(window_keyframes_.begin() + 1, window_keyframes_.end());
   keyframe_policy_.reset(window_keyframes_.front().T_world_kf);
-  pose_landmarks_ = consensus.inliers_latest;
+}
+
+void RgbdOdometry::revertUnheldStart(FrameTracking& out) {
+  // A map lost a few frames after its start, before any landmark gained evidence and with
+  // walkers in view (standStillWhileLost), was never held by the room: its tracked frames
+  // followed one frame's clusters, and on a crowd standing still is never worse than
+  // following a walker. They become lost frames at the start pose, bridged if the map
+  // holds again.
+  const int limit = config_.odometry.unheld_start_frames;
+  if (limit <= 0) return;
+  const bool young = frame_number_ - consensus_start_.frame_number <= limit;
+  if (out.state == TrackingState::Tracking) {
+    if (young && lost_frames_.empty() &&
+        (!start_frames_.empty() || last_tracked_.frame_number == consensus_start_.frame_number))
+      start_frames_.push_back({frame_number_, out.stamp});
+    return;
+  }
+  if (out.state != TrackingState::Lost || lost_streak_ != 1 || !young || start_frames_.empty() ||
+      !standStillWhileLost())
+    return;
+  const Isometry& anchor = consensus_start_.T_world_camera;
+  for (const auto& [number, stamp] : start_frames_) {
+    out.revised.push_back({number, stamp, anchor});
+    records_.revise(out.revised.back());
+  }
+  std::vector<Isometry> given(consensus_.frames().size(), anchor);
+  consensus_.revise(given);
+  lost_frames_ = start_frames_;
+  start_frames_.clear();
+  last_tracked_ = consensus_start_;
+  out.T_world_camera = anchor;
+  velocity_ = Isometry::Identity();
+  map_.dropKeyframesAfter(map_first_keyframe_);
+  keepFirstKeyframeOnly();
 }
 
 void RgbdOdometry::bridgeLostFrames(FrameTracking& out) {

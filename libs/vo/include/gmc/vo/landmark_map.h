@@ -129,6 +129,8 @@ class LandmarkMap {
   /// Appends landmarks as they are (positions in this map's frame, evidence kept).
   void adopt(const std::vector<Landmark>& landmarks);
 
+  /// Landmarks made by keyframes after `keyframe` go (placed from poses since revised).
+  void dropKeyframesAfter(int keyframe);
   /// A young map's start consensus (StartConsensus) was taken: its landmarks go back to
   /// where the first keyframe put them, in place since `since`; those outside it are
   /// suspect; landmarks of later keyframes were placed from poses now revised and go.

@@ -58,6 +58,10 @@ struct OdometryOptions {
                                         ///< extrapolating the velocity when the map holds no
                                         ///< static evidence yet and at least this share of the
                                         ///< last tracked frame's labelled matches were dynamic
+  int unheld_start_frames = 0;          ///< a map lost within this many frames of its start,
+                                        ///< before any static evidence and with walkers in
+                                        ///< view, revises its tracked frames to its start
+                                        ///< pose: nothing held them (0 = off)
   int track_frames = 0;                 ///< a keyframe's new landmark whose frame-to-frame track
                                         ///< over up to this many tracked frames moved on in the
                                         ///< world starts suspect (0 = off; FeatureTracks)
@@ -102,6 +106,9 @@ struct OdometryOptions {
     v("young_map_lost_still_share", young_map_lost_still_share, 0.0, 2.0,
       "lost frames in a map without static evidence stand still when this share of the last tracked "
       "frame's labelled matches were dynamic (0 = always, above 1 = never)");
+    v("unheld_start_frames", unheld_start_frames, 0, 1000,
+      "a map lost this few frames after its start, without static evidence and with walkers in view, revises "
+      "its tracked frames to its start pose (0 = off)");
     v("track_frames", track_frames, 0, FeatureTracks::kMaxLength,
       "a keyframe's new landmark whose frame-to-frame track over up to this many tracked frames moved on in the "
       "world starts suspect, once a new map's start is judged (0 = off)");
@@ -272,6 +279,10 @@ class RgbdOdometry {
   /// landmarks outside it become suspect.
   void judgeStart(double stamp, FrameTracking& out);
   void adoptConsensus(const ConsensusResult& consensus, double stamp, FrameTracking& out);
+  /// The window and keyframe policy keep the map's first keyframe only (its later ones were
+  /// placed from poses now revised).
+  void keepFirstKeyframeOnly();
+  void revertUnheldStart(FrameTracking& out);
   /// The start consensus begins with a new map's first keyframe.
   void startConsensus(double stamp);
   void matchToMap(const features::FeatureSet& cur, const Isometry& T_world_pred, const PinholeCamera& camera,
@@ -327,6 +338,8 @@ class RgbdOdometry {
   StartConsensus consensus_;
   int map_first_keyframe_ = 0;          ///< keyframe_count_ of the current map's first keyframe
   RevisedPose consensus_start_;         ///< and its frame (a taken consensus bridges from it)
+  std::vector<std::pair<long, double>> start_frames_;  ///< tracked frames since the map's start
+                                                       ///< (unheld_start_frames; none once held)
   std::vector<std::uint8_t> known_dynamic_;  ///< per current keypoint: on a known dynamic pixel
   MapTrack track_;                      ///< reused per frame
   BackgroundChoice choice_;             ///< reused per frame
