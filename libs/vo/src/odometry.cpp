@@ -359,10 +359,7 @@ void RgbdOdometry::revertUnheldStart(FrameTracking& out) {
       !standStillWhileLost())
     return;
   const Isometry& anchor = consensus_start_.T_world_camera;
-  for (const auto& [number, stamp] : start_frames_) {
-    out.revised.push_back({number, stamp, anchor});
-    records_.revise(out.revised.back());
-  }
+  bridge(start_frames_, consensus_start_, {frame_number_, out.stamp, anchor}, out);  // all at the start pose
   std::vector<Isometry> given(consensus_.frames().size(), anchor);
   consensus_.revise(given);
   lost_frames_ = start_frames_;
