@@ -59,6 +59,19 @@ TEST(KeyframePolicy, TheViewCriterionIsOffAtZero) {
   EXPECT_EQ(policy.decide(tracked(100, 10)), KeyframeDecision::None);
 }
 
+TEST(KeyframePolicy, ReturningToTheKeyframeKeepsItsReferenceAResetDoesNot) {
+  // An unheld start undone: back at the first keyframe, the frame after the return holds
+  // on 40 inliers. Against the first frame's 100 that is weak: a keyframe is taken.
+  KeyframePolicy returned = afterReferenceFrame(KeyframeOptions{});
+  returned.returnTo(Isometry::Identity());
+  EXPECT_EQ(returned.decide(tracked(40, 400, 0.5)), KeyframeDecision::Insert);
+  // A reset makes that weak frame the reference, and the map never renews itself.
+  KeyframePolicy reset = afterReferenceFrame(KeyframeOptions{});
+  reset.reset(Isometry::Identity());
+  EXPECT_EQ(reset.decide(tracked(40, 400, 0.5)), KeyframeDecision::None);
+  EXPECT_EQ(reset.decide(tracked(30, 400, 0.5)), KeyframeDecision::None);
+}
+
 TEST(KeyframePolicy, DistanceFromTheKeyframeAndLongLossesDecideToo) {
   KeyframePolicy policy = afterReferenceFrame(KeyframeOptions{});
   KeyframeFrame far = tracked(100, 400);

@@ -328,6 +328,7 @@ void RgbdOdometry::adoptConsensus(const ConsensusResult& consensus, double stamp
   // The landmarks: the consensus is where the first keyframe put them; the rest moved.
   map_.judgeStart(consensus.consensus, consensus.outside, map_first_keyframe_, map_start_stamp_, stamp);
   keepFirstKeyframeOnly();
+  keyframe_policy_.reset(window_keyframes_.front().T_world_kf);
   pose_landmarks_ = consensus.inliers_latest;
   start_frames_.clear();
 }
@@ -337,7 +338,6 @@ void RgbdOdometry::keepFirstKeyframeOnly() {
   const int map_keyframes = keyframe_count_ - map_first_keyframe_;
   if (window_keyframes_.size() > 1 && map_keyframes <= static_cast<int>(window_keyframes_.size()))
     window_keyframes_.erase(window_keyframes_.begin() + 1, window_keyframes_.end());
-  keyframe_policy_.reset(window_keyframes_.front().T_world_kf);
 }
 
 void RgbdOdometry::revertUnheldStart(FrameTracking& out) {
@@ -369,6 +369,7 @@ void RgbdOdometry::revertUnheldStart(FrameTracking& out) {
   velocity_ = Isometry::Identity();
   map_.dropKeyframesAfter(map_first_keyframe_);
   keepFirstKeyframeOnly();
+  keyframe_policy_.returnTo(window_keyframes_.front().T_world_kf);
 }
 
 void RgbdOdometry::bridgeLostFrames(FrameTracking& out) {

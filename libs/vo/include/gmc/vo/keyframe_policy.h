@@ -69,6 +69,11 @@ class KeyframePolicy {
     reference_in_view_ = 0;
   }
 
+  /// Back to an earlier keyframe of the same map (an unheld start undone): the overlap
+  /// reference measured after it still holds; a weak frame after the return must not
+  /// replace it, or no keyframe is taken while the map holds on a few inliers.
+  void returnTo(const Isometry& T_world_kf) { T_world_kf_ = T_world_kf; }
+
   KeyframeDecision decide(const KeyframeFrame& frame);
 
   /// The map moved into another world frame (a rejoin): so does the keyframe.
