@@ -58,7 +58,7 @@ struct OdometryOptions {
                                         ///< extrapolating the velocity when the map holds no
                                         ///< static evidence yet and at least this share of the
                                         ///< last tracked frame's labelled matches were dynamic
-  int unheld_start_frames = 0;          ///< a map lost within this many frames of its start,
+  int unheld_start_frames = 12;         ///< a map lost within this many frames of its start,
                                         ///< before any static evidence and with walkers in
                                         ///< view, revises its tracked frames to its start
                                         ///< pose: nothing held them (0 = off)
