@@ -32,7 +32,10 @@ per stream (stream k against stream k) and again without the stream-runs above 0
 either file (a run that flips between two outcomes a hundred times apart sways a whole
 stream's mean), the count of stream-runs above 0.5 m, and the runs that moved; with
 --stream-moves F also every single stream-run that moved by more than F (a change that
-touches one stream of one run hides in the medians).
+touches one stream of one run hides in the medians). Each file records a digest of the
+config/ folder its runs read (they read a copy made when the runs start); when the two
+files' digests differ, "compare" says so first: a baseline run after a default changed
+measures the new default unless its --set restores the old one.
 
 "windows" prints, from a file with the bonn set, what #14's first acceptance item asks per
 folder and per sampling stream: the whole folder's ATE against its standing still, the
@@ -44,6 +47,7 @@ takes ten minutes or more, and a key added to config/default.ini meanwhile would
 older --bin reject it and the set break (it happened twice, rounds 38 and 39).
 """
 import argparse
+import hashlib
 import json
 import math
 import os
@@ -116,7 +120,23 @@ def run(args):
     with tempfile.TemporaryDirectory() as frozen:
         args.config_dir = os.path.join(frozen, 'config')
         shutil.copytree('config', args.config_dir)
+        args.config_digest = config_digest(args.config_dir)
         run_frozen(args, sets)
+
+
+def config_digest(folder):
+    """SHA-256 over the relative paths and contents of every file under `folder`: which
+    defaults a set file's runs read (a baseline run after config/default.ini changed reads
+    the new default unless a --set restores the old one)."""
+    digest = hashlib.sha256()
+    for root, dirs, files in os.walk(folder):
+        dirs.sort()
+        for name in sorted(files):
+            path = os.path.join(root, name)
+            digest.update(os.path.relpath(path, folder).encode() + b'\0')
+            with open(path, 'rb') as f:
+                digest.update(f.read() + b'\0')
+    return digest.hexdigest()
 
 
 def run_frozen(args, sets):
@@ -143,7 +163,8 @@ def run_frozen(args, sets):
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
     tmp = args.out + '.tmp'
     with open(tmp, 'w') as f:
-        json.dump({'set': args.set, 'set_generated': args.set_generated, 'random_seeds': args.random_seeds, 'runs': report}, f, indent=1)
+        json.dump({'set': args.set, 'set_generated': args.set_generated, 'random_seeds': args.random_seeds,
+                   'config_digest': getattr(args, 'config_digest', None), 'runs': report}, f, indent=1)
     os.replace(tmp, args.out)
 
 
@@ -194,9 +215,16 @@ def geometric_mean(values):
 
 def compare(args):
     with open(args.base) as f:
-        base = json.load(f)['runs']
+        base_file = json.load(f)
     with open(args.new) as f:
-        new = json.load(f)['runs']
+        new_file = json.load(f)
+    base, new = base_file['runs'], new_file['runs']
+    digests = base_file.get('config_digest'), new_file.get('config_digest')
+    if all(digests) and digests[0] != digests[1]:
+        print('note: the two files read different config/ folders (%s, %s): their defaults may differ '
+              'beyond their --set (%s / %s)' % (digests[0][:12], digests[1][:12],
+                                                ' '.join(base_file.get('set', [])) or 'none',
+                                                ' '.join(new_file.get('set', [])) or 'none'))
     for set_name in base:
         if set_name not in new:
             continue

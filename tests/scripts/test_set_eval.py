@@ -124,6 +124,35 @@ class CompareCommand(unittest.TestCase):
         self.assertIn('0.0100 -> 0.0200', out)
 
 
+class ConfigDigest(unittest.TestCase):
+    def test_a_changed_default_changes_the_digest_and_compare_says_so(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            config = os.path.join(tmp, 'config')
+            os.makedirs(os.path.join(config, 'sim'))
+            with open(os.path.join(config, 'default.ini'), 'w') as f:
+                f.write('[Odometry]\nunheld_start_frames = 0\n')
+            with open(os.path.join(config, 'sim', 'crowd.ini'), 'w') as f:
+                f.write('[Sim]\n')
+            before = set_eval.config_digest(config)
+            self.assertEqual(before, set_eval.config_digest(config))
+            with open(os.path.join(config, 'default.ini'), 'w') as f:
+                f.write('[Odometry]\nunheld_start_frames = 12\n')
+            after = set_eval.config_digest(config)
+            self.assertNotEqual(before, after)
+
+            def compared(digest_base, digest_new):
+                for name, digest in (('base', digest_base), ('new', digest_new)):
+                    with open(os.path.join(tmp, name + '.json'), 'w') as f:
+                        json.dump({'set': [], 'random_seeds': 1, 'config_digest': digest,
+                                   'runs': {'choice': runs(a=0.01)}}, f)
+                return subprocess.run([sys.executable, SCRIPT, 'compare', os.path.join(tmp, 'base.json'),
+                                       os.path.join(tmp, 'new.json')], check=True, capture_output=True,
+                                      text=True).stdout
+            self.assertIn('note: the two files read different config/ folders', compared(before, after))
+            self.assertNotIn('note:', compared(before, before))
+            self.assertNotIn('note:', compared(None, after))  # files written before the digest
+
+
 class StreamMoves(unittest.TestCase):
     def test_every_stream_run_that_moved_beyond_the_share_is_listed(self):
         base = {'a': {'ate': 0.02, 'ate_per_seed': [0.010, 0.020, 0.040]}, 'b': {'ate': 0.02, 'ate_per_seed': [0.02] * 3}}
