@@ -119,6 +119,32 @@ TEST(StartConsensus, AgreesWithPosesThatFollowTheRoom) {
   EXPECT_EQ(r.score, r.given_score);
 }
 
+// Taken on a ratio (min_gain) or, with min_significance, on a difference that counts as
+// evidence for its size: a tenth more of a thousand inliers is, a tenth more of thirty is not.
+TEST(StartConsensus, ClearlyBetterByRatioOrBySignificance) {
+  auto result = [](int score, int given) {
+    ConsensusResult r;
+    r.found = true;
+    r.score = score;
+    r.given_score = given;
+    return r;
+  };
+  StartConsensusOptions options;
+  options.min_gain = 1.5;
+  const StartConsensus by_ratio(options);
+  EXPECT_TRUE(by_ratio.clearlyBetter(result(45, 30)));
+  EXPECT_FALSE(by_ratio.clearlyBetter(result(1400, 1000)));
+  options.min_significance = 3.0;
+  const StartConsensus by_evidence(options);
+  EXPECT_TRUE(by_evidence.clearlyBetter(result(1150, 1000)));   // 150 >= 3 sqrt(2150) = 139
+  EXPECT_FALSE(by_evidence.clearlyBetter(result(1130, 1000)));  // 130 < 3 sqrt(2130) = 138
+  EXPECT_FALSE(by_evidence.clearlyBetter(result(33, 30)));
+  EXPECT_TRUE(by_evidence.clearlyBetter(result(45, 30))) << "the ratio still suffices";
+  ConsensusResult none = result(2000, 10);
+  none.found = false;
+  EXPECT_FALSE(by_evidence.clearlyBetter(none));
+}
+
 // One rigid group larger than the room but moving 10 cm per frame relative to it: as
 // camera motion that is 3 m/s, beyond max_step, so it is not taken for the world.
 TEST(StartConsensus, AFastRigidGroupIsNoCamera) {

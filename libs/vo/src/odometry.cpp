@@ -289,7 +289,7 @@ void RgbdOdometry::judgeStart(double stamp, FrameTracking& out) {
     frame.observations.emplace_back(track_.landmark[k], track_.motion[k].point_cur);
   consensus_.add(frame);
   const ConsensusResult consensus = consensus_.solve(config_.background.inPlace());
-  if (!consensus.found || consensus.score < config_.start_consensus.min_gain * consensus.given_score) return;
+  if (!consensus_.clearlyBetter(consensus)) return;
   if (static_cast<int>(consensus.inliers_latest.size()) < config_.odometry.min_static_inliers) return;
   adoptConsensus(consensus, stamp, out);
 }

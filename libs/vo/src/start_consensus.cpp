@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 namespace gmc::vo {
 
@@ -106,6 +107,14 @@ bool StartConsensus::plausibleStep(const Isometry& a, const Isometry& b) const {
   const Isometry step = a.inverse() * b;
   return step.translation().norm() <= options_.max_step &&
          Eigen::AngleAxisd(step.linear()).angle() * 180.0 / M_PI <= options_.max_turn;
+}
+
+bool StartConsensus::clearlyBetter(const ConsensusResult& result) const {
+  if (!result.found) return false;
+  const double score = result.score, given = result.given_score;
+  if (score >= options_.min_gain * given) return true;
+  // Inlier counts scatter like counts: a tenth more of a thousand is evidence, of thirty it is not.
+  return options_.min_significance > 0 && score - given >= options_.min_significance * std::sqrt(score + given);
 }
 
 ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold) {

@@ -26,6 +26,8 @@ struct StartConsensusOptions {
   int min_frames = 4;       ///< frames kept before the first judgement
   int iterations = 200;     ///< 3-point samples per judgement
   double min_gain = 1.5;    ///< taken when it explains this many times the given poses' inliers
+  double min_significance = 3.0;  ///< or when it explains more by this many standard deviations of
+                                  ///< a count (S - G >= z sqrt(S + G); 0 = off)
   double max_step = 0.05;   ///< m per frame: a sample whose poses step further is no camera
   double max_turn = 5.0;    ///< deg per frame, the same for rotation
   double min_share = 0.5;   ///< a landmark is in the consensus when an inlier in this share
@@ -39,6 +41,9 @@ struct StartConsensusOptions {
     v("iterations", iterations, 1, 100000, "3-point samples per judgement");
     v("min_gain", min_gain, 1.0, 100.0,
       "the consensus is taken when its inliers over the frames are this many times the given poses'");
+    v("min_significance", min_significance, 0.0, 100.0,
+      "or taken when its inliers exceed the given poses' by this many count standard deviations, "
+      "(S - G) >= z sqrt(S + G) (0 = off)");
     v("max_step", max_step, 0.0, 100.0, "m per frame; a consensus whose poses step further is no camera");
     v("max_turn", max_turn, 0.0, 180.0, "deg per frame; the same for rotation");
     v("min_share", min_share, 0.0, 1.0,
@@ -82,6 +87,8 @@ class StartConsensus {
   /// The best rigid consensus over the kept frames; not found before min_frames.
   /// Deterministic: the sampler restarts with every map.
   ConsensusResult solve(const InPlaceThreshold& threshold);
+  /// The consensus explains the kept frames clearly better than the poses given out.
+  bool clearlyBetter(const ConsensusResult& result) const;
   /// The kept frames' poses were revised (to a consensus taken): they are the given ones now.
   void revise(const std::vector<Isometry>& T_world_camera);
   /// Landmark ids renumbered by a cull (-1 = dropped).
