@@ -131,6 +131,7 @@ TEST(StartConsensus, ClearlyBetterByRatioOrBySignificance) {
   };
   StartConsensusOptions options;
   options.min_gain = 1.5;
+  options.min_significance = 0;  // the ratio alone
   const StartConsensus by_ratio(options);
   EXPECT_TRUE(by_ratio.clearlyBetter(result(45, 30)));
   EXPECT_FALSE(by_ratio.clearlyBetter(result(1400, 1000)));
