@@ -195,6 +195,73 @@ TEST(StartConsensus, WaitsForMinFramesAndStopsAfterFrames) {
   EXPECT_EQ(consensus.frames().size(), 5u);
 }
 
+// Bonn's depth comes in steps of about z^2 / 350 m (1-4.5 cm at 2-4 m) while a pixel locates
+// a point to a fraction of a pixel: fitted to the quantised 3-D points, a frame's pose is
+// centimetres off; refined on the pixels and depths with their noise model (polish), it is
+// where a tracked pose would be.
+TEST(StartConsensus, PolishedPosesRestOnPixelsNotOnQuantisedDepth) {
+  const YoungMap map = crowdedStart(60, 0, {}, 0);
+  const gmc::PinholeCamera camera;
+  auto quantised = [&](int f) {
+    ConsensusFrame frame = map.frame(f);
+    for (auto& [id, point] : frame.observations) {
+      const double step = point.z() * point.z() / 350.0;
+      point *= std::round(point.z() / step) * step / point.z();  // along the ray: the pixel stays
+    }
+    return frame;
+  };
+  auto worstError = [&](bool polish) {
+    StartConsensusOptions options;
+    options.polish = polish;
+    StartConsensus consensus(options);
+    consensus.start(map.anchors());
+    for (int f = 1; f <= 8; ++f) consensus.add(quantised(f));
+    gmc::vo::ConsensusCamera with_camera;
+    with_camera.camera = &camera;
+    const ConsensusResult r = consensus.solve(InPlaceThreshold{}, with_camera);
+    EXPECT_TRUE(r.found);
+    double worst = 0;
+    for (size_t f = 0; f < r.T_world_camera.size(); ++f)
+      worst = std::max(worst, (r.T_world_camera[f].translation() - map.camera(static_cast<int>(f) + 1).translation()).norm());
+    return worst;
+  };
+  const double fitted = worstError(false), polished = worstError(true);
+  EXPECT_GT(fitted, 0.003) << "the quantised 3-D points alone leave the pose millimetres off";
+  EXPECT_LT(polished, fitted / 3);
+}
+
+// Given poses 1.5 cm sideways of the camera, 3 m from the points: within the 3-D threshold
+// (2.3 cm there), so by 3-D inliers the consensus explains the frames no better than they
+// do; 2.7 px off in the image, so by pixels (inlier_pixels 2) it clearly does.
+TEST(StartConsensus, PixelInliersSeeAPoseTheDepthNoiseHides) {
+  YoungMap map = crowdedStart(60, 0, {}, 0);
+  for (auto& p : map.world) p.z() = 3.0;  // a wall 3 m ahead
+  const gmc::PinholeCamera camera;
+  auto judge = [&](double inlier_pixels) {
+    StartConsensusOptions options;
+    options.inlier_pixels = inlier_pixels;
+    StartConsensus consensus(options);
+    consensus.start(map.anchors());
+    for (int f = 1; f <= 6; ++f) {
+      ConsensusFrame frame = map.frame(f);
+      frame.T_world_given = map.camera(f) * translation(Eigen::Vector3d(0.015, 0, 0));
+      consensus.add(frame);
+    }
+    gmc::vo::ConsensusCamera with_camera;
+    with_camera.camera = &camera;
+    return consensus.solve(InPlaceThreshold{}, with_camera);
+  };
+  const ConsensusResult by_3d = judge(0), by_pixels = judge(2.0);
+  ASSERT_TRUE(by_3d.found);
+  ASSERT_TRUE(by_pixels.found);
+  EXPECT_EQ(by_3d.score, by_3d.given_score) << "every point within the 3-D threshold of both";
+  EXPECT_EQ(by_pixels.score, 6 * 60);
+  EXPECT_EQ(by_pixels.given_score, 0);
+  StartConsensus judge_gain;
+  EXPECT_FALSE(judge_gain.clearlyBetter(by_3d));
+  EXPECT_TRUE(judge_gain.clearlyBetter(by_pixels));
+}
+
 // A cull renumbers landmarks: the consensus reports the new ids, and dropped ones never.
 TEST(StartConsensus, FollowsRenumberedLandmarks) {
   const YoungMap map = crowdedStart(20, 0, {}, 0);

@@ -175,7 +175,7 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   decideTracking(refined, orthonormalized(refined.T_cur_ref).inverse(), choice_.trustworthy, T_world_pred, out);
   revertUnheldStart(out);
   t0 = Clock::now();
-  judgeStart(stamp, out);  // a young map's frames judged together: with the hypotheses' time
+  judgeStart(stamp, camera, out);  // a young map's frames judged together: with the hypotheses' time
   out.times.guess += msSince(t0);
   if (out.state == TrackingState::Tracking && rejoin_.active()) tryRejoin(cur, camera, stamp, out);
 
@@ -279,7 +279,7 @@ void RgbdOdometry::startConsensus(double stamp) {
   map_first_keyframe_ = keyframe_count_ - 1;
 }
 
-void RgbdOdometry::judgeStart(double stamp, FrameTracking& out) {
+void RgbdOdometry::judgeStart(double stamp, const PinholeCamera& camera, FrameTracking& out) {
   if (!consensus_.active()) return;
   ConsensusFrame frame;
   frame.frame_number = frame_number_;
@@ -288,7 +288,10 @@ void RgbdOdometry::judgeStart(double stamp, FrameTracking& out) {
   for (size_t k = 0; k < track_.motion.size(); ++k)
     frame.observations.emplace_back(track_.landmark[k], track_.motion[k].point_cur);
   consensus_.add(frame);
-  const ConsensusResult consensus = consensus_.solve(config_.background.inPlace());
+  ConsensusCamera pixels;
+  pixels.camera = &camera;
+  pixels.refinement = config_.refinement;
+  const ConsensusResult consensus = consensus_.solve(config_.background.inPlace(), pixels);
   if (!consensus_.clearlyBetter(consensus)) return;
   if (static_cast<int>(consensus.inliers_latest.size()) < config_.odometry.min_static_inliers) return;
   adoptConsensus(consensus, stamp, out);

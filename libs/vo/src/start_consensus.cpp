@@ -58,11 +58,23 @@ void StartConsensus::remap(const std::vector<int>& new_id) {
 }
 
 int StartConsensus::countInliers(size_t f, const Isometry& T, const InPlaceThreshold& threshold,
-                                 std::vector<int>* in) const {
+                                 const PinholeCamera* pixels, std::vector<int>* in) const {
   int n = 0;
+  const Isometry T_camera_world = pixels ? Isometry(T.inverse()) : Isometry::Identity();
+  const double max_px2 = options_.inlier_pixels * options_.inlier_pixels;
   for (const auto& [a, point] : frames_[f].observations) {
     const double thr = threshold.at(point.z());
-    if ((anchor_world_[static_cast<size_t>(a)] - T * point).squaredNorm() >= thr * thr) continue;
+    const Eigen::Vector3d& world = anchor_world_[static_cast<size_t>(a)];
+    if (pixels) {
+      // A pixel locates a point across the ray far better than its depth along it: 2 cm
+      // sideways at 3 m is inside the 3-D threshold and 4 px off.
+      const Eigen::Vector3d expected = T_camera_world * world;
+      if (expected.z() <= 0 || std::abs(expected.z() - point.z()) >= thr ||
+          (pixels->project(expected) - pixels->project(point)).squaredNorm() >= max_px2)
+        continue;
+    } else if ((world - T * point).squaredNorm() >= thr * thr) {
+      continue;
+    }
     ++n;
     if (in) in->push_back(a);
   }
@@ -117,11 +129,28 @@ bool StartConsensus::clearlyBetter(const ConsensusResult& result) const {
   return options_.min_significance > 0 && score - given >= options_.min_significance * std::sqrt(score + given);
 }
 
-ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold) {
+void StartConsensus::polishPose(size_t f, const std::vector<int>& anchors, const ConsensusCamera& camera,
+                                Isometry& T) const {
+  if (!options_.polish || !camera.camera) return;
+  // The points were back-projected from their pixels: projecting them gives the pixels back.
+  std::vector<PointObservation> obs;
+  for (int a : anchors) {
+    const int ob = slot_[f][static_cast<size_t>(a)];
+    if (ob < 0) continue;
+    const Eigen::Vector3d& point = frames_[f].observations[static_cast<size_t>(ob)].second;
+    obs.push_back({anchor_world_[static_cast<size_t>(a)], camera.camera->project(point), point.z(), 1.0});
+  }
+  if (obs.size() < 6) return;
+  const RefinementResult refined = refinePose(obs, T.inverse(), *camera.camera, camera.refinement);
+  if (2 * refined.inliers >= static_cast<int>(obs.size())) T = refined.T_cur_ref.inverse();
+}
+
+ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold, const ConsensusCamera& camera) {
+  const PinholeCamera* pixels = options_.inlier_pixels > 0 ? camera.camera : nullptr;
   ConsensusResult result;
   const size_t n = frames_.size();
   if (static_cast<int>(n) < options_.min_frames || anchor_id_.size() < 3) return result;
-  for (size_t f = 0; f < n; ++f) result.given_score += countInliers(f, frames_[f].T_world_given, threshold, nullptr);
+  for (size_t f = 0; f < n; ++f) result.given_score += countInliers(f, frames_[f].T_world_given, threshold, pixels, nullptr);
 
   // Samples come from landmarks seen in at least half the frames: a set the frames share.
   std::vector<int> seen_in(anchor_id_.size(), 0), pool;
@@ -156,7 +185,7 @@ ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold) {
         continue;
       }
       if (chained && !plausibleStep(before, T)) score = -1;
-      else score += countInliers(f, T, threshold, nullptr);
+      else score += countInliers(f, T, threshold, pixels, nullptr);
       before = T;
       chained = true;
     }
@@ -172,7 +201,7 @@ ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold) {
     if (!fitFrame(best_sample, slot_[f], frames_[f], anchor_world_, 3, pose[f])) continue;
     posed[f] = 1;
     std::vector<int> in;
-    countInliers(f, pose[f], threshold, &in);
+    countInliers(f, pose[f], threshold, pixels, &in);
     for (int a : in) ++inlier_in[static_cast<size_t>(a)];
     for (const auto& ob : frames_[f].observations) ++observed_in[static_cast<size_t>(ob.first)];
   }
@@ -192,18 +221,19 @@ ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold) {
     if (fitFrame(members, slot_[f], frames_[f], anchor_world_, 6, T)) {
       // Members that moved in this frame alone (a walker's corner that stood still so far) out.
       std::vector<int> in;
-      countInliers(f, T, threshold, &in);
+      countInliers(f, T, threshold, pixels, &in);
       std::sort(in.begin(), in.end());
       std::vector<int> kept;
       std::set_intersection(members.begin(), members.end(), in.begin(), in.end(), std::back_inserter(kept));
       Isometry refit = T;
       if (fitFrame(kept, slot_[f], frames_[f], anchor_world_, 6, refit)) T = refit;
+      polishPose(f, kept, camera, T);
       posed[f] = 1;
     }
     if (!posed[f]) return result;  // a frame no pose explains: nothing to revise it with
     pose[f] = T;
     std::vector<int> in;
-    result.score += countInliers(f, T, threshold, f + 1 == n ? &in : nullptr);
+    result.score += countInliers(f, T, threshold, pixels, f + 1 == n ? &in : nullptr);
     for (int a : in) result.inliers_latest.push_back(anchor_id_[static_cast<size_t>(a)]);
   }
   // The newest step becomes the velocity: it must be a camera's.

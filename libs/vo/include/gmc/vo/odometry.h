@@ -277,7 +277,7 @@ class RgbdOdometry {
               FrameTracking& out);
   /// A young map's frames judged together; taken, it revises their poses and the
   /// landmarks outside it become suspect.
-  void judgeStart(double stamp, FrameTracking& out);
+  void judgeStart(double stamp, const PinholeCamera& camera, FrameTracking& out);
   void adoptConsensus(const ConsensusResult& consensus, double stamp, FrameTracking& out);
   /// The window and keyframe policy keep the map's first keyframe only (its later ones were
   /// placed from poses now revised).

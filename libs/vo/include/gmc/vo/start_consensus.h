@@ -16,6 +16,7 @@
 
 #include "gmc/vo/background.h"
 #include "gmc/vo/landmark_map.h"
+#include "gmc/vo/pose_refinement.h"
 
 namespace gmc::vo {
 
@@ -30,6 +31,9 @@ struct StartConsensusOptions {
                                   ///< a count (S - G >= z sqrt(S + G); 0 = off)
   double max_step = 0.05;   ///< m per frame: a sample whose poses step further is no camera
   double max_turn = 5.0;    ///< deg per frame, the same for rotation
+  bool polish = false;      ///< each frame's pose refined on its members' pixels and depths
+                            ///< (as a tracked pose), not only fitted to their 3-D points
+  double inlier_pixels = 0;  ///< px: an inlier also reprojects within this (0: 3-D test only)
   double min_share = 0.5;   ///< a landmark is in the consensus when an inlier in this share
                             ///< of the frames that observed it
 
@@ -46,6 +50,12 @@ struct StartConsensusOptions {
       "(S - G) >= z sqrt(S + G) (0 = off)");
     v("max_step", max_step, 0.0, 100.0, "m per frame; a consensus whose poses step further is no camera");
     v("max_turn", max_turn, 0.0, 180.0, "deg per frame; the same for rotation");
+    v("polish", polish,
+      "refine each frame's consensus pose on its members' pixels and depths, as tracked poses are, instead of "
+      "only fitting their 3-D points (which depth quantisation dominates)");
+    v("inlier_pixels", inlier_pixels, 0.0, 1000.0,
+      "px; an observation is an inlier of a frame's pose only when it also reprojects within this many pixels, "
+      "as well as within the 3-D threshold along the ray (0 = the 3-D threshold alone)");
     v("min_share", min_share, 0.0, 1.0,
       "a landmark belongs to the consensus when it is an inlier in this share of the frames that saw it");
   }
@@ -57,6 +67,14 @@ struct ConsensusFrame {
   double stamp = 0;
   Isometry T_world_given = Isometry::Identity();  ///< the pose given out (lost: the prediction)
   std::vector<std::pair<int, Eigen::Vector3d>> observations;  ///< landmark id, point in the camera frame
+};
+
+/// What the pixel judgements need (StartConsensusOptions::polish, inlier_pixels): the
+/// camera the frames' points were back-projected with, and the tracked poses' noise model.
+/// Without a camera both are off.
+struct ConsensusCamera {
+  const PinholeCamera* camera = nullptr;
+  RefinementOptions refinement;
 };
 
 struct ConsensusResult {
@@ -86,7 +104,7 @@ class StartConsensus {
   const std::vector<ConsensusFrame>& frames() const { return frames_; }
   /// The best rigid consensus over the kept frames; not found before min_frames.
   /// Deterministic: the sampler restarts with every map.
-  ConsensusResult solve(const InPlaceThreshold& threshold);
+  ConsensusResult solve(const InPlaceThreshold& threshold, const ConsensusCamera& camera = {});
   /// The consensus explains the kept frames clearly better than the poses given out.
   bool clearlyBetter(const ConsensusResult& result) const;
   /// The kept frames' poses were revised (to a consensus taken): they are the given ones now.
@@ -95,10 +113,14 @@ class StartConsensus {
   void remap(const std::vector<int>& new_id);
 
  private:
-  /// Inliers of frame f at pose T (world <- camera); appends their anchor indices.
-  int countInliers(size_t f, const Isometry& T, const InPlaceThreshold& threshold, std::vector<int>* in) const;
+  /// Inliers of frame f at pose T (world <- camera); appends their anchor indices. With
+  /// `pixels`, an inlier also reprojects within inlier_pixels and its depth is judged along the ray.
+  int countInliers(size_t f, const Isometry& T, const InPlaceThreshold& threshold, const PinholeCamera* pixels,
+                   std::vector<int>* in) const;
 
   bool plausibleStep(const Isometry& a, const Isometry& b) const;
+  /// T (world <- camera of frame f) refined on the pixels and depths of `anchors` there.
+  void polishPose(size_t f, const std::vector<int>& anchors, const ConsensusCamera& camera, Isometry& T) const;
 
   StartConsensusOptions options_;
   bool active_ = false;
