@@ -216,9 +216,7 @@ TEST(StartConsensus, PolishedPosesRestOnPixelsNotOnQuantisedDepth) {
     StartConsensus consensus(options);
     consensus.start(map.anchors());
     for (int f = 1; f <= 8; ++f) consensus.add(quantised(f));
-    gmc::vo::ConsensusCamera with_camera;
-    with_camera.camera = &camera;
-    const ConsensusResult r = consensus.solve(InPlaceThreshold{}, with_camera);
+    const ConsensusResult r = consensus.solve(InPlaceThreshold{}, &camera);
     EXPECT_TRUE(r.found);
     double worst = 0;
     for (size_t f = 0; f < r.T_world_camera.size(); ++f)
@@ -247,9 +245,7 @@ TEST(StartConsensus, PixelInliersSeeAPoseTheDepthNoiseHides) {
       frame.T_world_given = map.camera(f) * translation(Eigen::Vector3d(0.015, 0, 0));
       consensus.add(frame);
     }
-    gmc::vo::ConsensusCamera with_camera;
-    with_camera.camera = &camera;
-    return consensus.solve(InPlaceThreshold{}, with_camera);
+    return consensus.solve(InPlaceThreshold{}, &camera);
   };
   const ConsensusResult by_3d = judge(0), by_pixels = judge(2.0);
   ASSERT_TRUE(by_3d.found);

@@ -91,7 +91,7 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
       map_(config.local_map),
       rejoin_(config.rejoin, config.refinement,
               config.background.inPlace()),
-      consensus_(config.start_consensus),
+      consensus_(config.start_consensus, config.refinement),
       gmc_previous_(config.gmc),
       smoother_(config.odometry.smoothing_frames, config.odometry.smoothing_break),
       tracks_(config.odometry.track_frames),
@@ -288,10 +288,7 @@ void RgbdOdometry::judgeStart(double stamp, const PinholeCamera& camera, FrameTr
   for (size_t k = 0; k < track_.motion.size(); ++k)
     frame.observations.emplace_back(track_.landmark[k], track_.motion[k].point_cur);
   consensus_.add(frame);
-  ConsensusCamera pixels;
-  pixels.camera = &camera;
-  pixels.refinement = config_.refinement;
-  const ConsensusResult consensus = consensus_.solve(config_.background.inPlace(), pixels);
+  const ConsensusResult consensus = consensus_.solve(config_.background.inPlace(), &camera);
   if (!consensus_.clearlyBetter(consensus)) return;
   if (static_cast<int>(consensus.inliers_latest.size()) < config_.odometry.min_static_inliers) return;
   adoptConsensus(consensus, stamp, out);

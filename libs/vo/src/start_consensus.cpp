@@ -129,24 +129,23 @@ bool StartConsensus::clearlyBetter(const ConsensusResult& result) const {
   return options_.min_significance > 0 && score - given >= options_.min_significance * std::sqrt(score + given);
 }
 
-void StartConsensus::polishPose(size_t f, const std::vector<int>& anchors, const ConsensusCamera& camera,
+void StartConsensus::polishPose(size_t f, const std::vector<int>& anchors, const PinholeCamera& camera,
                                 Isometry& T) const {
-  if (!options_.polish || !camera.camera) return;
   // The points were back-projected from their pixels: projecting them gives the pixels back.
   std::vector<PointObservation> obs;
   for (int a : anchors) {
     const int ob = slot_[f][static_cast<size_t>(a)];
     if (ob < 0) continue;
     const Eigen::Vector3d& point = frames_[f].observations[static_cast<size_t>(ob)].second;
-    obs.push_back({anchor_world_[static_cast<size_t>(a)], camera.camera->project(point), point.z(), 1.0});
+    obs.push_back({anchor_world_[static_cast<size_t>(a)], camera.project(point), point.z(), 1.0});
   }
   if (obs.size() < 6) return;
-  const RefinementResult refined = refinePose(obs, T.inverse(), *camera.camera, camera.refinement);
+  const RefinementResult refined = refinePose(obs, T.inverse(), camera, refinement_);
   if (2 * refined.inliers >= static_cast<int>(obs.size())) T = refined.T_cur_ref.inverse();
 }
 
-ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold, const ConsensusCamera& camera) {
-  const PinholeCamera* pixels = options_.inlier_pixels > 0 ? camera.camera : nullptr;
+ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold, const PinholeCamera* camera) {
+  const PinholeCamera* pixels = options_.inlier_pixels > 0 ? camera : nullptr;
   ConsensusResult result;
   const size_t n = frames_.size();
   if (static_cast<int>(n) < options_.min_frames || anchor_id_.size() < 3) return result;
@@ -227,7 +226,7 @@ ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold, const C
       std::set_intersection(members.begin(), members.end(), in.begin(), in.end(), std::back_inserter(kept));
       Isometry refit = T;
       if (fitFrame(kept, slot_[f], frames_[f], anchor_world_, 6, refit)) T = refit;
-      polishPose(f, kept, camera, T);
+      if (options_.polish && camera) polishPose(f, kept, *camera, T);
       posed[f] = 1;
     }
     if (!posed[f]) return result;  // a frame no pose explains: nothing to revise it with

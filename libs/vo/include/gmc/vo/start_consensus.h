@@ -69,14 +69,6 @@ struct ConsensusFrame {
   std::vector<std::pair<int, Eigen::Vector3d>> observations;  ///< landmark id, point in the camera frame
 };
 
-/// What the pixel judgements need (StartConsensusOptions::polish, inlier_pixels): the
-/// camera the frames' points were back-projected with, and the tracked poses' noise model.
-/// Without a camera both are off.
-struct ConsensusCamera {
-  const PinholeCamera* camera = nullptr;
-  RefinementOptions refinement;
-};
-
 struct ConsensusResult {
   bool found = false;
   int score = 0;                       ///< inliers summed over the frames
@@ -90,7 +82,9 @@ struct ConsensusResult {
 
 class StartConsensus {
  public:
-  explicit StartConsensus(const StartConsensusOptions& options = {}) : options_(options) {}
+  /// `refinement`: the tracked poses' noise model, which polish refines with.
+  explicit StartConsensus(const StartConsensusOptions& options = {}, const RefinementOptions& refinement = {})
+      : options_(options), refinement_(refinement) {}
 
   /// Another sampling stream from the next map on (Xorshift64::seedFor); 0 = the built-in one.
   void reseed(std::uint64_t run_seed) { seed_ = Xorshift64::seedFor(kSeed, run_seed); }
@@ -104,7 +98,9 @@ class StartConsensus {
   const std::vector<ConsensusFrame>& frames() const { return frames_; }
   /// The best rigid consensus over the kept frames; not found before min_frames.
   /// Deterministic: the sampler restarts with every map.
-  ConsensusResult solve(const InPlaceThreshold& threshold, const ConsensusCamera& camera = {});
+  /// `camera`: the one the frames' points were back-projected with; polish and
+  /// inlier_pixels need it (without it both are off).
+  ConsensusResult solve(const InPlaceThreshold& threshold, const PinholeCamera* camera = nullptr);
   /// The consensus explains the kept frames clearly better than the poses given out.
   bool clearlyBetter(const ConsensusResult& result) const;
   /// The kept frames' poses were revised (to a consensus taken): they are the given ones now.
@@ -120,9 +116,10 @@ class StartConsensus {
 
   bool plausibleStep(const Isometry& a, const Isometry& b) const;
   /// T (world <- camera of frame f) refined on the pixels and depths of `anchors` there.
-  void polishPose(size_t f, const std::vector<int>& anchors, const ConsensusCamera& camera, Isometry& T) const;
+  void polishPose(size_t f, const std::vector<int>& anchors, const PinholeCamera& camera, Isometry& T) const;
 
   StartConsensusOptions options_;
+  RefinementOptions refinement_;
   bool active_ = false;
   std::unordered_map<int, int> anchor_of_;    ///< anchor index per landmark id (built at start, remap)
   std::vector<int> anchor_id_;                 ///< landmark id per anchor
