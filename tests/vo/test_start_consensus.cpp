@@ -219,8 +219,10 @@ TEST(StartConsensus, PolishedPosesRestOnPixelsNotOnQuantisedDepth) {
     const ConsensusResult r = consensus.solve(InPlaceThreshold{}, &camera);
     EXPECT_TRUE(r.found);
     double worst = 0;
-    for (size_t f = 0; f < r.T_world_camera.size(); ++f)
-      worst = std::max(worst, (r.T_world_camera[f].translation() - map.camera(static_cast<int>(f) + 1).translation()).norm());
+    for (size_t f = 0; f < r.T_world_camera.size(); ++f) {
+      const Eigen::Vector3d truth = map.camera(static_cast<int>(f) + 1).translation();
+      worst = std::max(worst, (r.T_world_camera[f].translation() - truth).norm());
+    }
     return worst;
   };
   const double fitted = worstError(false), polished = worstError(true);

@@ -149,7 +149,8 @@ ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold, const P
   ConsensusResult result;
   const size_t n = frames_.size();
   if (static_cast<int>(n) < options_.min_frames || anchor_id_.size() < 3) return result;
-  for (size_t f = 0; f < n; ++f) result.given_score += countInliers(f, frames_[f].T_world_given, threshold, pixels, nullptr);
+  for (size_t f = 0; f < n; ++f)
+    result.given_score += countInliers(f, frames_[f].T_world_given, threshold, pixels, nullptr);
 
   // Samples come from landmarks seen in at least half the frames: a set the frames share.
   std::vector<int> seen_in(anchor_id_.size(), 0), pool;
