@@ -9,8 +9,10 @@ of the ATE ratios over fixed sets of runs. This script is those sets:
   held    seeds 11-14 of crowd_hover, crowd_start, stop_and_go_hover; crowd 11-16 (18)
   other   seeds 1-4 of stop_and_go, person_tracking, walkers_xyz, close_pass;
           synchronous 3-4 and 11-14 (22)
-  bonn    both Bonn folders whole, every 100-frame window (step 10), starts 3/6/9/12 (23):
-          read, never chosen on
+  bonn    both Bonn folders whole, every 100-frame window (step 10), starts 3/6/9/12 (23),
+          and the two joined into one 221-frame run (RGB frames 240-460 of the sequence:
+          the issue's failing stretch after a good start) whole and every 150-frame window
+          (step 10) (9): read, never chosen on
 
 Generated sequences are 300 frames (config/sim/<scenario>.ini, --seed), made once into
 --data and reused; real folders come from --shared and a set whose folder is absent is
@@ -39,8 +41,8 @@ measures the new default unless its --set restores the old one.
 
 "windows" prints, from a file with the bonn set, what #14's first acceptance item asks per
 folder and per sampling stream: the whole folder's ATE against its standing still, the
-100-frame windows' median and max, how many windows end below their standing still and
-which do not, and the starts' range.
+windows' (100 frames; the joined run's 150) median and max, how many windows end below
+their standing still and which do not, and the starts' range.
 
 "run" reads config/ as it is when the set starts (a copy in a temporary folder): a set
 takes ten minutes or more, and a key added to config/default.ini meanwhile would make an
@@ -59,6 +61,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from seed_eval import generate_sequence, sequence_folder  # noqa: E402
+from join_folders import join  # noqa: E402
 from window_eval import frames_in, run_window  # noqa: E402
 
 GENERATED_FRAMES = 300
@@ -82,6 +85,9 @@ SETS = {
 }
 TEDDY = 'tum_fr3_teddy_1_100'
 BONN = ['bonn_crowd_240_389', 'bonn_crowd_301_460']
+# The shared folders are frames 240-389 and 301-460 of one recording (same stamps): joined,
+# a run twice as long as either, through the crowd from a calm start.
+BONN_JOINED = ('bonn_crowd_240_460', BONN, 150)
 
 
 def runs_of(set_name, args):
@@ -109,7 +115,26 @@ def runs_of(set_name, args):
                      for s in range(0, frames_in(folder) - 100 + 1, 10)]
             runs += [('%s start %d' % (short, s), os.path.join(configs, 'bonn.ini'), folder, s, 0)
                      for s in (3, 6, 9, 12)]
+        runs += joined_runs(args, configs, set_name)
     return runs
+
+
+def joined_runs(args, configs, set_name):
+    """The joined Bonn run, whole and in windows; its folder of links goes to args.work_dir."""
+    name, parts, window = BONN_JOINED
+    folders = [os.path.join(args.shared, p) for p in parts]
+    if not all(os.path.isdir(f) for f in folders):
+        print('set_eval.py: %s not all present, the joined run of set %s is skipped' % (', '.join(folders), set_name))
+        return []
+    work = getattr(args, 'work_dir', None) or tempfile.mkdtemp(prefix='set_eval_')
+    folder = os.path.join(work, name)
+    if not os.path.isdir(folder):
+        os.makedirs(folder)
+        join(folders, folder)  # scripts/join_folders.py, as doc/odometry.md's joined studies
+    short = name.replace('bonn_crowd_', '')
+    return [('%s whole' % short, os.path.join(configs, 'bonn.ini'), folder, 0, 0)] + [
+        ('%s window +%d' % (short, s), os.path.join(configs, 'bonn.ini'), folder, s, window)
+        for s in range(0, frames_in(folder) - window + 1, 10)]
 
 
 def run(args):
@@ -119,6 +144,7 @@ def run(args):
             generate_sequence(args.bin, args.data, scenario, seed, GENERATED_FRAMES)
     with tempfile.TemporaryDirectory() as frozen:
         args.config_dir = os.path.join(frozen, 'config')
+        args.work_dir = frozen
         shutil.copytree('config', args.config_dir)
         args.config_digest = config_digest(args.config_dir)
         run_frozen(args, sets)

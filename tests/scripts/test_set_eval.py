@@ -63,12 +63,19 @@ class Sets(unittest.TestCase):
         with tempfile.TemporaryDirectory() as shared:
             for name in [set_eval.TEDDY] + set_eval.BONN:
                 os.makedirs(os.path.join(shared, name))
-            for name, frames in zip(set_eval.BONN, (150, 160)):
-                with open(os.path.join(shared, name, 'rgb.txt'), 'w') as f:
-                    f.writelines('%d rgb/%d.png\n' % (i, i) for i in range(frames))
-            args = argparse.Namespace(data='out/seeds', shared=shared)
+            # frames 240-389 and 301-460 of one recording: joined, 221 frames
+            for name, first, frames in zip(set_eval.BONN, (240, 301), (150, 160)):
+                for sub in ('rgb', 'depth'):
+                    os.makedirs(os.path.join(shared, name, sub))
+                for listing in ('rgb.txt', 'depth.txt', 'groundtruth.txt'):
+                    with open(os.path.join(shared, name, listing), 'w') as f:
+                        f.writelines('%d rgb/%d.png\n' % (i, i) for i in range(first, first + frames))
+            args = argparse.Namespace(data='out/seeds', shared=shared, work_dir=shared)
             sizes = {s: len(set_eval.runs_of(s, args)) for s in set_eval.SETS}
-        self.assertEqual(sizes, {'choice': 23, 'held': 18, 'other': 22, 'bonn': 23})
+            joined = [r for r in set_eval.runs_of('bonn', args) if r[0].startswith('240_460')]
+        self.assertEqual(sizes, {'choice': 23, 'held': 18, 'other': 22, 'bonn': 32})
+        self.assertEqual([(r[0], r[3], r[4]) for r in joined[:2]], [('240_460 whole', 0, 0), ('240_460 window +0', 0, 150)])
+        self.assertEqual(joined[-1][0], '240_460 window +70')
 
     def test_absent_real_folders_are_skipped_not_run(self):
         with tempfile.TemporaryDirectory() as shared:
