@@ -175,8 +175,8 @@ bool applyChain(FilterChain& chain, mrpt::obs::CObservation3DRangeScan& obs,
 // ---------------------------------------------------------------- gmc
 std::vector<std::string> GmcFilter::sections(const std::string& section) const {
   return {section,      "Frontend",  "GMS",       "GMC",    "Odometry",
-          "Refinement", "LocalMap", "Background", "Keyframes", "Window", "Rejoin", "StartConsensus", "FreeSpace",
-          "DepthAlignment",
+          "Refinement", "LocalMap", "Background", "Keyframes", "Window", "Rejoin", "StartConsensus", "Hindsight",
+          "FreeSpace", "DepthAlignment",
           "DynamicMask"};
 }
 
@@ -195,6 +195,7 @@ void GmcFilter::initialize(const mrpt::config::CConfigFileBase& ini, const std::
   cfg::loadSection(ini, "Window", odometry_config_.window, source);
   cfg::loadSection(ini, "Rejoin", odometry_config_.rejoin, source);
   cfg::loadSection(ini, "StartConsensus", odometry_config_.start_consensus, source);
+  cfg::loadSection(ini, "Hindsight", odometry_config_.hindsight, source);
   cfg::loadSection(ini, "FreeSpace", odometry_config_.free_space, source);
   cfg::loadSection(ini, "DepthAlignment", odometry_config_.depth_alignment, source);
   cfg::loadSection(ini, "DynamicMask", mask_options_, source);
@@ -222,6 +223,7 @@ void GmcFilter::save(mrpt::config::CConfigFileBase& out, const std::string& sect
   cfg::saveSection(out, "Window", odometry.window);
   cfg::saveSection(out, "Rejoin", odometry.rejoin);
   cfg::saveSection(out, "StartConsensus", odometry.start_consensus);
+  cfg::saveSection(out, "Hindsight", odometry.hindsight);
   cfg::saveSection(out, "FreeSpace", odometry.free_space);
   cfg::saveSection(out, "DepthAlignment", odometry.depth_alignment);
   cfg::saveSection(out, "DynamicMask", mask);

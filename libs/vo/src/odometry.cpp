@@ -60,16 +60,6 @@ FreeSpaceOptions freeSpaceOptions(const OdometryConfig& config) {
   return o;
 }
 
-/// The same pose with its rotation re-orthonormalised: poses are inverted (as
-/// transposes) and composed with the velocity every frame, which doubles any departure
-/// from a rotation each frame until it shows.
-Isometry orthonormalized(const Isometry& T) {
-  Isometry out = Isometry::Identity();
-  out.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
-  out.translation() = T.translation();
-  return out;
-}
-
 }  // namespace
 
 const char* toString(TrackingState s) {
@@ -92,6 +82,7 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
       rejoin_(config.rejoin, config.refinement,
               config.background.inPlace()),
       consensus_(config.start_consensus, config.refinement),
+      hindsight_(config.hindsight, config.refinement, config.background.inPlace()),
       gmc_previous_(config.gmc),
       smoother_(config.odometry.smoothing_frames, config.odometry.smoothing_break),
       tracks_(config.odometry.track_frames),
@@ -101,6 +92,7 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
   background_.reseed(seed);
   rejoin_.reseed(seed);
   consensus_.reseed(seed);
+  hindsight_.reseed(seed);
 }
 
 Isometry RgbdOdometry::predictPose() const {
@@ -209,7 +201,12 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   bridgeLostFrames(out);
   smoothTrajectory(out);
 
-  previous_ = std::move(cur);
+  if (hindsight_.options().enabled) {
+    previous_ = cur;  // the descriptors are shared; the hindsight keeps the frame
+    reviseInHindsight(std::move(cur), camera, out);
+  } else {
+    previous_ = std::move(cur);
+  }
   previous_memory_ = memory_;
   T_world_previous_ = out.T_world_camera;
   T_world_last_ = out.T_world_camera;
@@ -244,6 +241,9 @@ void RgbdOdometry::initialize(features::FeatureSet&& cur, const PinholeCamera& c
   keyframe_policy_.reset(Isometry::Identity());
   addKeyframe(cur, camera, stamp, out);
   startConsensus(stamp);
+  hindsight_.reset();
+  hindsight_.add({frame_number_, stamp, cur, Isometry::Identity(), {}, false}, map_, Isometry::Identity(), camera,
+                 frontend_, config_.frontend.max_depth);
   out.map_landmarks = static_cast<int>(map_.numAlive());
   previous_ = std::move(cur);
   previous_memory_.assign(previous_.size(), 0);
@@ -403,6 +403,23 @@ void RgbdOdometry::smoothTrajectory(FrameTracking& out) {
   if (const auto smoothed = smoother_.add({frame_number_, out.stamp, out.T_world_camera})) {
     out.revised.push_back(*smoothed);
     records_.revise(*smoothed);
+  }
+}
+
+void RgbdOdometry::reviseInHindsight(features::FeatureSet&& cur, const PinholeCamera& camera, FrameTracking& out) {
+  // A frame that moved the world frame (a new map, a start consensus, a rejoin) ends what
+  // can be compared with today's landmarks.
+  const bool posed = out.state == TrackingState::Tracking || out.state == TrackingState::Lost;
+  if (!posed || out.start_consensus || out.rejoined) {
+    hindsight_.reset();
+    return;
+  }
+  HindsightFrame frame{frame_number_, out.stamp, std::move(cur), out.T_world_camera, pose_landmarks_,
+                       out.state == TrackingState::Lost};
+  for (const RevisedPose& revision : hindsight_.add(std::move(frame), map_, out.T_world_camera, camera, frontend_,
+                                                    config_.frontend.max_depth)) {
+    out.revised.push_back(revision);
+    records_.revise(revision);
   }
 }
 
@@ -843,6 +860,7 @@ void RgbdOdometry::addKeyframe(const features::FeatureSet& cur, const PinholeCam
   const std::vector<int> remap = map_.cull(stamp);
   if (remap.empty()) return;
   renumberLandmarks(pose_landmarks_, remap, [](int& id) -> int& { return id; });
+  hindsight_.renumber(remap);
   renumberLandmarks(maskable_, remap, [](std::pair<int, cv::Point2f>& m) -> int& { return m.first; });
   consensus_.remap(remap);
   for (auto& w : window_keyframes_)

@@ -7,6 +7,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
@@ -57,6 +58,13 @@ Isometry expSE3(const Eigen::Matrix<double, 6, 1>& xi) {
   T.linear() = R;
   T.translation() = V * rho;
   return T;
+}
+
+Isometry orthonormalized(const Isometry& T) {
+  Isometry out = Isometry::Identity();
+  out.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
+  out.translation() = T.translation();
+  return out;
 }
 
 double positionStdDev(const RefinementResult& result) {

@@ -14,6 +14,7 @@
 #include "gmc/vo/depth_alignment.h"
 #include "gmc/vo/feature_tracks.h"
 #include "gmc/vo/free_space.h"
+#include "gmc/vo/hindsight.h"
 #include "gmc/vo/keyframe_policy.h"
 #include "gmc/vo/landmark_map.h"
 #include "gmc/vo/map_records.h"
@@ -143,6 +144,7 @@ struct OdometryConfig {
   WindowOptions window;                ///< [Window]
   RejoinOptions rejoin;                ///< [Rejoin]
   StartConsensusOptions start_consensus;  ///< [StartConsensus]
+  HindsightOptions hindsight;          ///< [Hindsight]
   FreeSpaceOptions free_space;         ///< [FreeSpace]
   DepthAlignmentOptions depth_alignment;  ///< [DepthAlignment]
 };
@@ -273,6 +275,8 @@ class RgbdOdometry {
   void bridgeLostFrames(FrameTracking& out);
   /// The pose smoothing_frames back, fitted over the tracked frames around it (a revision).
   void smoothTrajectory(FrameTracking& out);
+  /// The frame kept for a judgement in hindsight; the revisions of earlier frames it makes.
+  void reviseInHindsight(features::FeatureSet&& cur, const PinholeCamera& camera, FrameTracking& out);
   void bridge(const std::vector<std::pair<long, double>>& lost, const RevisedPose& from, const RevisedPose& to,
               FrameTracking& out);
   /// A young map's frames judged together; taken, it revises their poses and the
@@ -336,6 +340,7 @@ class RgbdOdometry {
   LandmarkMap map_;
   MapRejoin rejoin_;
   StartConsensus consensus_;
+  HindsightPoser hindsight_;
   int map_first_keyframe_ = 0;          ///< keyframe_count_ of the current map's first keyframe
   RevisedPose consensus_start_;         ///< and its frame (a taken consensus bridges from it)
   std::vector<std::pair<long, double>> start_frames_;  ///< tracked frames since the map's start

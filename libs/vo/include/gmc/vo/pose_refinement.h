@@ -62,6 +62,11 @@ struct RefinementResult {
 /// frame refinement and the windowed optimisation.
 Isometry expSE3(const Eigen::Matrix<double, 6, 1>& xi);
 
+/// The same pose with its rotation re-orthonormalised: poses are inverted (as
+/// transposes) and composed with the velocity every frame, which doubles any departure
+/// from a rotation each frame until it shows.
+Isometry orthonormalized(const Isometry& T);
+
 /// Standard deviation (m) of the current camera's position along its least constrained
 /// direction, from the result's information (infinite-like when there is none). Large
 /// when the points leave translation and rotation free to trade off, e.g. a narrow strip

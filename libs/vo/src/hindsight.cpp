@@ -1,0 +1,201 @@
+#include "gmc/vo/hindsight.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace gmc::vo {
+
+bool PointCorrespondences::inPlace(const Isometry& T_reference_camera, int i, const InPlaceThreshold& threshold) const {
+  const auto u = static_cast<size_t>(i);
+  return (T_reference_camera * camera[u] - reference[u]).norm() <= threshold.at(camera[u].z());
+}
+
+std::vector<int> PointCorrespondences::inPlace(const Isometry& T_reference_camera, const std::vector<int>& pool,
+                                               const InPlaceThreshold& threshold) const {
+  std::vector<int> out;
+  for (int i : pool)
+    if (inPlace(T_reference_camera, i, threshold)) out.push_back(i);
+  return out;
+}
+
+namespace {
+
+std::vector<int> allOf(const PointCorrespondences& c) {
+  std::vector<int> all(static_cast<size_t>(c.size()));
+  std::iota(all.begin(), all.end(), 0);
+  return all;
+}
+
+/// A reference FeatureSet of the landmarks in `view` that `keep` selects.
+features::FeatureSet subset(const LandmarkView& view, const std::vector<size_t>& keep) {
+  features::FeatureSet out;
+  out.width = view.set.width;
+  out.height = view.set.height;
+  out.descriptors.create(static_cast<int>(keep.size()), 32, CV_8UC1);
+  for (size_t j = 0; j < keep.size(); ++j) {
+    out.keypoints.push_back(view.set.keypoints[keep[j]]);
+    out.points.push_back(view.set.points[keep[j]]);
+    view.set.descriptors.row(static_cast<int>(keep[j])).copyTo(out.descriptors.row(static_cast<int>(j)));
+  }
+  return out;
+}
+
+}  // namespace
+
+void HindsightPoser::reset() {
+  waiting_.clear();
+  passed_.clear();
+}
+
+void HindsightPoser::renumber(const std::vector<int>& remap) {
+  for (auto* frames : {&waiting_, &passed_})
+    for (auto& frame : *frames)
+      for (int& id : frame.pose_landmarks)
+        if (id >= 0) id = remap[static_cast<size_t>(id)];
+}
+
+std::vector<RevisedPose> HindsightPoser::add(HindsightFrame&& frame, const LandmarkMap& map,
+                                             const Isometry& T_world_current, const PinholeCamera& camera,
+                                             const features::Frontend& frontend, double max_depth) {
+  if (!options_.enabled) return {};
+  const double stamp = frame.stamp;
+  waiting_.push_back(std::move(frame));
+  if (static_cast<int>(waiting_.size()) <= options_.lag_frames) return {};
+  HindsightFrame past = std::move(waiting_.front());
+  waiting_.pop_front();
+  // A pose still held by trusted landmarks needs no judgement, nor do the frames before it;
+  // a lost frame has none to judge and ends what can be posed back.
+  if (past.lost || stillHeld(past, map, stamp)) {
+    passed_.clear();
+    return {};
+  }
+  std::vector<int> room;
+  const std::optional<Isometry> revised = judge(past, map, T_world_current, camera, frontend, max_depth, stamp, room);
+  if (!revised) {
+    passed_.push_back(std::move(past));
+    if (static_cast<int>(passed_.size()) > options_.lag_frames) passed_.pop_front();
+    return {};
+  }
+  if ((revised->translation() - past.T_world_camera.translation()).norm() < options_.min_shift) {
+    passed_.clear();  // near enough: its pose holds, and so do the ones before it
+    return {};
+  }
+  past.T_world_camera = *revised;
+  const RevisedPose revision{past.frame_number, past.stamp, *revised};
+  std::vector<RevisedPose> out = chainBack(std::move(past), std::move(room), camera, frontend);
+  out.push_back(revision);
+  return out;
+}
+
+bool HindsightPoser::stillHeld(const HindsightFrame& frame, const LandmarkMap& map, double stamp) const {
+  if (frame.pose_landmarks.empty()) return false;  // a map's first frame
+  // Dropped landmarks say nothing: a moving camera leaves most of what it saw, and the map
+  // culls what it no longer finds. Seen moving (suspect) is the evidence.
+  int held = 0, moving = 0;
+  for (int id : frame.pose_landmarks) {
+    if (id < 0 || !map[id].alive) continue;
+    (map.weight(id, stamp) > 0 ? held : moving) += 1;
+  }
+  return moving <= held;
+}
+
+std::optional<Isometry> HindsightPoser::judge(const HindsightFrame& frame, const LandmarkMap& map,
+                                              const Isometry& T_world_current, const PinholeCamera& camera,
+                                              const features::Frontend& frontend, double max_depth, double stamp,
+                                              std::vector<int>& room) {
+  // Today's landmarks in view and not seen moving, those with static evidence first (the
+  // matching cost is bounded by max_reference).
+  LandmarkView view;
+  map.view(T_world_current, camera, max_depth, view);
+  std::vector<size_t> keep;
+  for (size_t k = 0; k < view.ids.size(); ++k)
+    if (map.weight(view.ids[k], stamp) > 0) keep.push_back(k);
+  std::stable_sort(keep.begin(), keep.end(), [&](size_t a, size_t b) {
+    return map.weight(view.ids[a], stamp) > map.weight(view.ids[b], stamp);
+  });
+  if (static_cast<int>(keep.size()) > options_.max_reference) keep.resize(static_cast<size_t>(options_.max_reference));
+  if (static_cast<int>(keep.size()) < options_.min_inliers) return std::nullopt;
+  PointCorrespondences c;
+  for (const auto& m : frontend.matchExhaustive(subset(view, keep), frame.features)) {
+    if (!frame.features.hasDepth(m.cur)) continue;
+    const auto f = static_cast<size_t>(m.cur);
+    c.reference.push_back(map[view.ids[keep[static_cast<size_t>(m.ref)]]].position);
+    c.camera.push_back(frame.features.points[f]);
+    c.pixels.emplace_back(frame.features.keypoints[f].pt.x, frame.features.keypoints[f].pt.y);
+    c.feature.push_back(m.cur);
+  }
+  if (c.size() < options_.min_inliers) return std::nullopt;
+  std::vector<int> members;
+  const Isometry best = fit(c, allOf(c), frame.T_world_camera, camera, static_cast<std::uint64_t>(frame.frame_number),
+                            members);
+  const double S = static_cast<double>(c.inPlace(best, allOf(c), threshold_).size());
+  const double G = static_cast<double>(c.inPlace(frame.T_world_camera, allOf(c), threshold_).size());
+  if (S < options_.min_inliers || S < options_.min_gain * G || S - G < options_.min_significance * std::sqrt(S + G))
+    return std::nullopt;
+  room.clear();
+  for (int i : c.inPlace(best, allOf(c), threshold_)) room.push_back(c.feature[static_cast<size_t>(i)]);
+  return best;
+}
+
+std::vector<RevisedPose> HindsightPoser::chainBack(HindsightFrame from, std::vector<int> room,
+                                                   const PinholeCamera& camera, const features::Frontend& frontend) {
+  std::vector<RevisedPose> out;  // newest first, reversed at the end
+  while (!passed_.empty()) {
+    HindsightFrame past = std::move(passed_.back());
+    passed_.pop_back();
+    std::vector<std::uint8_t> in_room(from.features.size(), 0);
+    for (int f : room) in_room[static_cast<size_t>(f)] = 1;
+    // Every feature of the later frame with depth, at its world position; the pose is
+    // chosen on its room alone, whose share of all matches is whatever the walkers leave.
+    PointCorrespondences c;
+    std::vector<int> pool;
+    for (const auto& m : frontend.matchExhaustive(from.features, past.features)) {
+      if (!past.features.hasDepth(m.cur) || !from.features.hasDepth(m.ref)) continue;
+      if (in_room[static_cast<size_t>(m.ref)]) pool.push_back(c.size());
+      const auto f = static_cast<size_t>(m.cur);
+      c.reference.push_back(from.T_world_camera * from.features.points[static_cast<size_t>(m.ref)]);
+      c.camera.push_back(past.features.points[f]);
+      c.pixels.emplace_back(past.features.keypoints[f].pt.x, past.features.keypoints[f].pt.y);
+      c.feature.push_back(m.cur);
+    }
+    if (static_cast<int>(pool.size()) < options_.chain_min_inliers) break;
+    std::vector<int> members;
+    const Isometry best = fit(c, pool, from.T_world_camera, camera, static_cast<std::uint64_t>(past.frame_number),
+                              members);
+    const int S = static_cast<int>(c.inPlace(best, pool, threshold_).size());
+    const int G = static_cast<int>(c.inPlace(past.T_world_camera, pool, threshold_).size());
+    // A frame whose given pose the room already holds needs nothing, nor do those before it.
+    if (S < options_.chain_min_inliers || 2 * G >= S) break;
+    past.T_world_camera = best;
+    out.push_back({past.frame_number, past.stamp, best});
+    // Its room: every match in place under its pose (grows back what matching lost).
+    room.clear();
+    for (int i : c.inPlace(best, allOf(c), threshold_)) room.push_back(c.feature[static_cast<size_t>(i)]);
+    from = std::move(past);
+  }
+  passed_.clear();
+  std::reverse(out.begin(), out.end());
+  return out;
+}
+
+Isometry HindsightPoser::fit(const PointCorrespondences& c, const std::vector<int>& pool, const Isometry& fallback,
+                             const PinholeCamera& camera, std::uint64_t sample_seed, std::vector<int>& members) const {
+  // Each judgement samples its own stream (frame number and run seed): the result does not
+  // depend on how many judgements came before.
+  Xorshift64 rng(Xorshift64::seedFor(0x68696e64 ^ sample_seed, run_seed_));
+  const Isometry sampled = ransacRigid(
+      pool, options_.ransac_iterations, rng, [&](int i) { return c.camera[static_cast<size_t>(i)]; },
+      [&](int i) { return c.reference[static_cast<size_t>(i)]; },
+      [&](const Isometry& T) { return static_cast<double>(c.inPlace(T, pool, threshold_).size()); }, fallback);
+  members = c.inPlace(sampled, pool, threshold_);
+  std::vector<PointObservation> obs;
+  for (int i : members) {
+    const auto u = static_cast<size_t>(i);
+    obs.push_back({c.reference[u], c.pixels[u], c.camera[u].z(), 1.0});
+  }
+  // T_cur_ref of the refinement maps reference points into the camera: the inverse pose.
+  return orthonormalized(refinePose(obs, sampled.inverse(), camera, refinement_).T_cur_ref).inverse();
+}
+
+}  // namespace gmc::vo
