@@ -126,15 +126,14 @@ std::optional<Isometry> HindsightPoser::judge(const HindsightFrame& frame, const
     c.feature.push_back(m.cur);
   }
   if (c.size() < options_.min_inliers) return std::nullopt;
-  std::vector<int> members;
-  const Isometry best = fit(c, allOf(c), frame.T_world_camera, camera, static_cast<std::uint64_t>(frame.frame_number),
-                            members);
-  const double S = static_cast<double>(c.inPlace(best, allOf(c), threshold_).size());
+  const Isometry best = fit(c, allOf(c), frame.T_world_camera, camera, static_cast<std::uint64_t>(frame.frame_number));
+  const std::vector<int> agreeing = c.inPlace(best, allOf(c), threshold_);
+  const double S = static_cast<double>(agreeing.size());
   const double G = static_cast<double>(c.inPlace(frame.T_world_camera, allOf(c), threshold_).size());
   if (S < options_.min_inliers || S < options_.min_gain * G || S - G < options_.min_significance * std::sqrt(S + G))
     return std::nullopt;
   room.clear();
-  for (int i : c.inPlace(best, allOf(c), threshold_)) room.push_back(c.feature[static_cast<size_t>(i)]);
+  for (int i : agreeing) room.push_back(c.feature[static_cast<size_t>(i)]);
   return best;
 }
 
@@ -160,9 +159,7 @@ std::vector<RevisedPose> HindsightPoser::chainBack(HindsightFrame from, std::vec
       c.feature.push_back(m.cur);
     }
     if (static_cast<int>(pool.size()) < options_.chain_min_inliers) break;
-    std::vector<int> members;
-    const Isometry best = fit(c, pool, from.T_world_camera, camera, static_cast<std::uint64_t>(past.frame_number),
-                              members);
+    const Isometry best = fit(c, pool, from.T_world_camera, camera, static_cast<std::uint64_t>(past.frame_number));
     const int S = static_cast<int>(c.inPlace(best, pool, threshold_).size());
     const int G = static_cast<int>(c.inPlace(past.T_world_camera, pool, threshold_).size());
     // A frame whose given pose the room already holds needs nothing, nor do those before it.
@@ -180,7 +177,7 @@ std::vector<RevisedPose> HindsightPoser::chainBack(HindsightFrame from, std::vec
 }
 
 Isometry HindsightPoser::fit(const PointCorrespondences& c, const std::vector<int>& pool, const Isometry& fallback,
-                             const PinholeCamera& camera, std::uint64_t sample_seed, std::vector<int>& members) const {
+                             const PinholeCamera& camera, std::uint64_t sample_seed) const {
   // Each judgement samples its own stream (frame number and run seed): the result does not
   // depend on how many judgements came before.
   Xorshift64 rng(Xorshift64::seedFor(0x68696e64 ^ sample_seed, run_seed_));
@@ -188,9 +185,8 @@ Isometry HindsightPoser::fit(const PointCorrespondences& c, const std::vector<in
       pool, options_.ransac_iterations, rng, [&](int i) { return c.camera[static_cast<size_t>(i)]; },
       [&](int i) { return c.reference[static_cast<size_t>(i)]; },
       [&](const Isometry& T) { return static_cast<double>(c.inPlace(T, pool, threshold_).size()); }, fallback);
-  members = c.inPlace(sampled, pool, threshold_);
   std::vector<PointObservation> obs;
-  for (int i : members) {
+  for (int i : c.inPlace(sampled, pool, threshold_)) {
     const auto u = static_cast<size_t>(i);
     obs.push_back({c.reference[u], c.pixels[u], c.camera[u].z(), 1.0});
   }

@@ -114,7 +114,7 @@ class HindsightPoser {
                                      const features::Frontend& frontend);
   /// 3-point RANSAC over `pool` and the refinement on its in-place correspondences.
   Isometry fit(const PointCorrespondences& c, const std::vector<int>& pool, const Isometry& fallback,
-               const PinholeCamera& camera, std::uint64_t sample_seed, std::vector<int>& members) const;
+               const PinholeCamera& camera, std::uint64_t sample_seed) const;
 
   HindsightOptions options_;
   RefinementOptions refinement_;
