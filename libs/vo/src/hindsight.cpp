@@ -2,30 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 namespace gmc::vo {
 
-bool PointCorrespondences::inPlace(const Isometry& T_reference_camera, int i, const InPlaceThreshold& threshold) const {
-  const auto u = static_cast<size_t>(i);
-  return (T_reference_camera * camera[u] - reference[u]).norm() <= threshold.at(camera[u].z());
-}
-
-std::vector<int> PointCorrespondences::inPlace(const Isometry& T_reference_camera, const std::vector<int>& pool,
-                                               const InPlaceThreshold& threshold) const {
-  std::vector<int> out;
-  for (int i : pool)
-    if (inPlace(T_reference_camera, i, threshold)) out.push_back(i);
-  return out;
-}
-
 namespace {
-
-std::vector<int> allOf(const PointCorrespondences& c) {
-  std::vector<int> all(static_cast<size_t>(c.size()));
-  std::iota(all.begin(), all.end(), 0);
-  return all;
-}
 
 /// A reference FeatureSet of the landmarks in `view` that `keep` selects.
 features::FeatureSet subset(const LandmarkView& view, const std::vector<size_t>& keep) {
@@ -118,18 +98,14 @@ std::optional<Isometry> HindsightPoser::judge(const HindsightFrame& frame, const
   if (static_cast<int>(keep.size()) < options_.min_inliers) return std::nullopt;
   PointCorrespondences c;
   for (const auto& m : frontend.matchExhaustive(subset(view, keep), frame.features)) {
-    if (!frame.features.hasDepth(m.cur)) continue;
-    const auto f = static_cast<size_t>(m.cur);
-    c.reference.push_back(map[view.ids[keep[static_cast<size_t>(m.ref)]]].position);
-    c.camera.push_back(frame.features.points[f]);
-    c.pixels.emplace_back(frame.features.keypoints[f].pt.x, frame.features.keypoints[f].pt.y);
-    c.feature.push_back(m.cur);
+    if (frame.features.hasDepth(m.cur))
+      c.add(map[view.ids[keep[static_cast<size_t>(m.ref)]]].position, frame.features, m.cur);
   }
   if (c.size() < options_.min_inliers) return std::nullopt;
-  const Isometry best = fit(c, allOf(c), frame.T_world_camera, camera, static_cast<std::uint64_t>(frame.frame_number));
-  const std::vector<int> agreeing = c.inPlace(best, allOf(c), threshold_);
+  const Isometry best = fit(c, c.all(), frame.T_world_camera, camera, static_cast<std::uint64_t>(frame.frame_number));
+  const std::vector<int> agreeing = c.inPlace(best, c.all(), threshold_);
   const double S = static_cast<double>(agreeing.size());
-  const double G = static_cast<double>(c.inPlace(frame.T_world_camera, allOf(c), threshold_).size());
+  const double G = static_cast<double>(c.inPlace(frame.T_world_camera, c.all(), threshold_).size());
   if (S < options_.min_inliers || S < options_.min_gain * G || S - G < options_.min_significance * std::sqrt(S + G))
     return std::nullopt;
   room.clear();
@@ -152,11 +128,7 @@ std::vector<RevisedPose> HindsightPoser::chainBack(HindsightFrame from, std::vec
     for (const auto& m : frontend.matchExhaustive(from.features, past.features)) {
       if (!past.features.hasDepth(m.cur) || !from.features.hasDepth(m.ref)) continue;
       if (in_room[static_cast<size_t>(m.ref)]) pool.push_back(c.size());
-      const auto f = static_cast<size_t>(m.cur);
-      c.reference.push_back(from.T_world_camera * from.features.points[static_cast<size_t>(m.ref)]);
-      c.camera.push_back(past.features.points[f]);
-      c.pixels.emplace_back(past.features.keypoints[f].pt.x, past.features.keypoints[f].pt.y);
-      c.feature.push_back(m.cur);
+      c.add(from.T_world_camera * from.features.points[static_cast<size_t>(m.ref)], past.features, m.cur);
     }
     if (static_cast<int>(pool.size()) < options_.chain_min_inliers) break;
     const Isometry best = fit(c, pool, from.T_world_camera, camera, static_cast<std::uint64_t>(past.frame_number));
@@ -168,7 +140,7 @@ std::vector<RevisedPose> HindsightPoser::chainBack(HindsightFrame from, std::vec
     out.push_back({past.frame_number, past.stamp, best});
     // Its room: every match in place under its pose (grows back what matching lost).
     room.clear();
-    for (int i : c.inPlace(best, allOf(c), threshold_)) room.push_back(c.feature[static_cast<size_t>(i)]);
+    for (int i : c.inPlace(best, c.all(), threshold_)) room.push_back(c.feature[static_cast<size_t>(i)]);
     from = std::move(past);
   }
   passed_.clear();
@@ -181,17 +153,9 @@ Isometry HindsightPoser::fit(const PointCorrespondences& c, const std::vector<in
   // Each judgement samples its own stream (frame number and run seed): the result does not
   // depend on how many judgements came before.
   Xorshift64 rng(Xorshift64::seedFor(0x68696e64 ^ sample_seed, run_seed_));
-  const Isometry sampled = ransacRigid(
-      pool, options_.ransac_iterations, rng, [&](int i) { return c.camera[static_cast<size_t>(i)]; },
-      [&](int i) { return c.reference[static_cast<size_t>(i)]; },
-      [&](const Isometry& T) { return static_cast<double>(c.inPlace(T, pool, threshold_).size()); }, fallback);
-  std::vector<PointObservation> obs;
-  for (int i : c.inPlace(sampled, pool, threshold_)) {
-    const auto u = static_cast<size_t>(i);
-    obs.push_back({c.reference[u], c.pixels[u], c.camera[u].z(), 1.0});
-  }
-  // T_cur_ref of the refinement maps reference points into the camera: the inverse pose.
-  return orthonormalized(refinePose(obs, sampled.inverse(), camera, refinement_).T_cur_ref).inverse();
+  const CorrespondenceFit fit =
+      fitCorrespondences(c, pool, fallback, options_.ransac_iterations, rng, threshold_, camera, refinement_);
+  return orthonormalized(fit.refined.T_cur_ref).inverse();  // T_cur_ref maps the world into the camera
 }
 
 }  // namespace gmc::vo

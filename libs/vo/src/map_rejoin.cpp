@@ -1,10 +1,11 @@
 #include "gmc/vo/map_rejoin.h"
 
+#include "gmc/vo/point_correspondences.h"
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <numeric>
 
 namespace gmc::vo {
 
@@ -105,43 +106,17 @@ std::optional<Isometry> MapRejoin::correction(const features::Frontend& frontend
                                               const features::FeatureSet& cur, const Isometry& T_world_cur,
                                               const PinholeCamera& camera, RejoinAttempt& r) {
   // 3-D correspondences: frozen landmark (old world) <- current keypoint (camera frame).
-  std::vector<Eigen::Vector3d> old_points, cur_points;
-  std::vector<Eigen::Vector2d> pixels;
-  for (const auto& m : frontend.matchExhaustive(map.frozen_set, cur)) {
-    if (!cur.hasDepth(m.cur)) continue;
-    old_points.push_back(map.frozen[static_cast<size_t>(m.ref)].position);
-    cur_points.push_back(cur.points[static_cast<size_t>(m.cur)]);
-    const auto& kp = cur.keypoints[static_cast<size_t>(m.cur)].pt;
-    pixels.emplace_back(kp.x, kp.y);
-  }
-  const int n = static_cast<int>(old_points.size());
-  r.matches = n;
-  if (n < options_.min_inliers) return std::nullopt;
-  auto inliers_of = [&](const Isometry& T_old_cur, std::vector<int>* out) {
-    int count = 0;
-    for (int i = 0; i < n; ++i) {
-      const double err = (T_old_cur * cur_points[static_cast<size_t>(i)] - old_points[static_cast<size_t>(i)]).norm();
-      if (err > threshold_.at(cur_points[static_cast<size_t>(i)].z())) continue;
-      ++count;
-      if (out) out->push_back(i);
-    }
-    return count;
-  };
-  std::vector<int> all(static_cast<size_t>(n));
-  std::iota(all.begin(), all.end(), 0);
-  const Isometry best = ransacRigid(
-      all, options_.ransac_iterations, rng_, [&](int i) { return cur_points[static_cast<size_t>(i)]; },
-      [&](int i) { return old_points[static_cast<size_t>(i)]; },
-      [&](const Isometry& T) { return static_cast<double>(inliers_of(T, nullptr)); }, Isometry::Identity());
-  std::vector<int> inliers;
-  r.inliers = inliers_of(best, &inliers);
-  if (r.inliers < options_.min_inliers) return std::nullopt;
+  PointCorrespondences c;
+  for (const auto& m : frontend.matchExhaustive(map.frozen_set, cur))
+    if (cur.hasDepth(m.cur)) c.add(map.frozen[static_cast<size_t>(m.ref)].position, cur, m.cur);
+  r.matches = c.size();
+  if (r.matches < options_.min_inliers) return std::nullopt;
   // The pose in the old map, refined on the inliers' pixels and depths as any tracked pose.
-  std::vector<PointObservation> obs;
-  for (int i : inliers)
-    obs.push_back({old_points[static_cast<size_t>(i)], pixels[static_cast<size_t>(i)],
-                   cur_points[static_cast<size_t>(i)].z(), 1.0});
-  const RefinementResult refined = refinePose(obs, best.inverse(), camera, refinement_);
+  const CorrespondenceFit fit = fitCorrespondences(c, c.all(), Isometry::Identity(), options_.ransac_iterations, rng_,
+                                                   threshold_, camera, refinement_);
+  r.inliers = static_cast<int>(fit.members.size());
+  if (r.inliers < options_.min_inliers) return std::nullopt;
+  const RefinementResult& refined = fit.refined;
   r.inliers = refined.inliers;
   if (refined.inliers < options_.min_inliers) return std::nullopt;
   const Isometry T_old_cur = refined.T_cur_ref.inverse();

@@ -25,6 +25,7 @@
 #include "gmc/vo/in_place_threshold.h"
 #include "gmc/vo/landmark_map.h"
 #include "gmc/vo/map_records.h"
+#include "gmc/vo/point_correspondences.h"
 #include "gmc/vo/pose_refinement.h"
 
 namespace gmc::vo {
@@ -67,19 +68,6 @@ struct HindsightFrame {
   bool lost = false;                ///< no pose measured: never judged, and nothing is posed through it
 };
 
-/// 3-D correspondences of one frame's features with points of a reference frame.
-struct PointCorrespondences {
-  std::vector<Eigen::Vector3d> reference;  ///< where the point is (reference frame)
-  std::vector<Eigen::Vector3d> camera;     ///< the feature's point (camera frame)
-  std::vector<Eigen::Vector2d> pixels;     ///< the feature's keypoint
-  std::vector<int> feature;                ///< the feature's index
-  int size() const { return static_cast<int>(reference.size()); }
-  bool inPlace(const Isometry& T_reference_camera, int i, const InPlaceThreshold& threshold) const;
-  /// The correspondences of `pool` in place under T_reference_camera.
-  std::vector<int> inPlace(const Isometry& T_reference_camera, const std::vector<int>& pool,
-                           const InPlaceThreshold& threshold) const;
-};
-
 class HindsightPoser {
  public:
   HindsightPoser(const HindsightOptions& options, const RefinementOptions& refinement,
@@ -112,7 +100,7 @@ class HindsightPoser {
   /// The passed frames before `from` (newest first), each posed from the next on its room.
   std::vector<RevisedPose> chainBack(HindsightFrame from, std::vector<int> room, const PinholeCamera& camera,
                                      const features::Frontend& frontend);
-  /// 3-point RANSAC over `pool` and the refinement on its in-place correspondences.
+  /// fitCorrespondences with this judgement's own sampling stream; the pose (T_world_camera).
   Isometry fit(const PointCorrespondences& c, const std::vector<int>& pool, const Isometry& fallback,
                const PinholeCamera& camera, std::uint64_t sample_seed) const;
 
