@@ -201,6 +201,23 @@ TEST(LandmarkMap, ADistrustedLandmarkIsSuspectForSuspectSeconds) {
   EXPECT_EQ(map.evidence(2, 0.6), Evidence::Young);
 }
 
+// The test the hindsight and the window put to a pose: do the landmarks that held it
+// still hold it? Seen moving since is the evidence against; dropped ones say nothing.
+TEST(LandmarkMap, LandmarksStillHoldAPoseUntilMoreOfThemAreSeenMovingThanTrusted) {
+  LandmarkMap map;
+  map.addFeatures(wallFeatures(6), std::vector<std::uint8_t>(6, 0), std::vector<MotionLabel>(6, MotionLabel::Undecided),
+                  Isometry::Identity(), 0.0, 0);
+  const std::vector<int> held_by{0, 1, 2, 3, 4, 5};
+  EXPECT_TRUE(map.stillHold(held_by, 0.6));
+  for (int id : {0, 1, 2}) map.distrust(id, 0.5);
+  EXPECT_TRUE(map.stillHold(held_by, 0.6)) << "three seen moving, three trusted";
+  map.distrust(3, 0.5);
+  EXPECT_FALSE(map.stillHold(held_by, 0.6)) << "four seen moving, two trusted";
+  EXPECT_TRUE(map.stillHold({4, 5, 0, -1, -1, -1, -1}, 0.6)) << "dropped landmarks (-1) say nothing";
+  EXPECT_FALSE(map.stillHold({0, 1, 4, -1, -1, -1}, 0.6));
+  EXPECT_TRUE(map.stillHold(held_by, 3.6)) << "the suspicion ends after suspect_seconds";
+}
+
 TEST(LandmarkMap, ViewKeepsLandmarksInFrontAndInsideTheImage) {
   LandmarkMap map;
   const auto f = wallFeatures(100);

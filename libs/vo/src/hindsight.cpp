@@ -69,15 +69,10 @@ std::vector<RevisedPose> HindsightPoser::add(HindsightFrame&& frame, const Landm
 }
 
 bool HindsightPoser::stillHeld(const HindsightFrame& frame, const LandmarkMap& map, double stamp) const {
-  if (frame.pose_landmarks.empty()) return false;  // a map's first frame
-  // Dropped landmarks say nothing: a moving camera leaves most of what it saw, and the map
-  // culls what it no longer finds. Seen moving (suspect) is the evidence.
-  int held = 0, moving = 0;
-  for (int id : frame.pose_landmarks) {
-    if (id < 0 || !map[id].alive) continue;
-    (map.weight(id, stamp) > 0 ? held : moving) += 1;
-  }
-  return moving <= held;
+  // A map's first frame is held by none. Dropped landmarks say nothing: a moving camera
+  // leaves most of what it saw, and the map culls what it no longer finds. Seen moving
+  // (suspect) is the evidence.
+  return !frame.pose_landmarks.empty() && map.stillHold(frame.pose_landmarks, stamp);
 }
 
 std::optional<Isometry> HindsightPoser::judge(const HindsightFrame& frame, const LandmarkMap& map,

@@ -40,6 +40,15 @@ double LandmarkMap::weight(int id, double stamp) const {
   return 0.0;
 }
 
+bool LandmarkMap::stillHold(const std::vector<int>& ids, double stamp) const {
+  int held = 0, moving = 0;
+  for (int id : ids) {
+    if (id < 0 || !landmarks_[static_cast<size_t>(id)].alive) continue;
+    (weight(id, stamp) > 0 ? held : moving) += 1;
+  }
+  return moving <= held;
+}
+
 void LandmarkMap::view(const Isometry& T_world_camera, const PinholeCamera& camera, double max_depth,
                        LandmarkView& out) const {
   out.ids.clear();

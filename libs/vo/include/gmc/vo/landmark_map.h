@@ -102,6 +102,10 @@ class LandmarkMap {
   Evidence evidence(int id, double stamp) const;
   /// Trust used to weigh a match: 0 suspect, young_weight young, 1 static.
   double weight(int id, double stamp) const;
+  /// Whether the landmarks that held a pose still hold it at `stamp`: no more of them are
+  /// alive and seen moving since (suspect) than alive and trusted. Dropped ones (culled,
+  /// or id < 0) say nothing: a moving camera leaves most of what it saw.
+  bool stillHold(const std::vector<int>& ids, double stamp) const;
 
   /// Landmarks in front of a camera at T_world_camera and inside its image.
   void view(const Isometry& T_world_camera, const PinholeCamera& camera, double max_depth,

@@ -267,6 +267,7 @@ class RgbdOdometry {
   struct WindowKeyframe {
     Isometry T_world_kf = Isometry::Identity();
     std::vector<WindowObservation> observations;  ///< keyframe field unused; landmark = map id
+    std::vector<int> pose_landmarks;              ///< the landmarks that held its tracked pose
   };
 
   /// known_dynamic_ for the frame's keypoints (2 px margin); throws on a wrong mask.

@@ -27,6 +27,9 @@ struct WindowOptions {
   int covisible_pool = 40;     ///< keyframes of the map kept, from which the fixed ones are the
                                ///< fixed_keyframes sharing the most landmarks with the moved ones
                                ///< (0 = the keyframes just before the moved ones; twenty-third round)
+  bool skip_unheld = true;     ///< a keyframe whose tracked pose rested on landmarks since seen
+                               ///< moving (more of them suspect than trusted) takes no part: as a
+                               ///< fixed keyframe it would pull the newer ones onto what moved
 
   template <class V>
   void visit(V& v) {
@@ -41,6 +44,8 @@ struct WindowOptions {
     v("covisible_pool", covisible_pool, 0, 10000,
       "keyframes kept; the fixed ones are those of them sharing the most landmarks with the moved ones (0 = the "
       "keyframes just before)");
+    v("skip_unheld", skip_unheld,
+      "a keyframe whose pose rested on landmarks since seen moving takes no part (neither fixed nor moved)");
   }
 };
 
