@@ -259,33 +259,38 @@ TEST(OdometrySim, AGroupWalkingWithTheCameraIsNotTakenForTheRoom) {
   EXPECT_GT(without.last_error, 0.2) << "the scenario must mislead the frame-to-frame choice";
 }
 
-/// The synchronous scenario at seed 2 over 60 frames, with the hindsight (first) and
-/// without: the worst error of frames 2-20 (every revision applied) relative to frame 30,
-/// against the truth's (the world frame may be off by what the first frames missed; their
-/// place on the path is what matters). The frames are rendered once for both runs.
-std::pair<double, double> synchronousEarlyFrames() {
+/// Renders frames 0..count-1 of the synchronous scenario at `seed` once and tracks each
+/// with both odometries: visit(k, rendered frame, tracking) with k = 0 for `first`.
+void trackSynchronousTwice(int seed, int count, gmc::vo::RgbdOdometry& first, gmc::vo::RgbdOdometry& second,
+                           const std::function<void(int, const gmc::sim::SimFrame&, const gmc::vo::FrameTracking&)>& visit) {
   const std::string path = GMC_SOURCE_DIR "/config/sim/synchronous.ini";
   auto options = gmc::sim::loadSimOptions(gmc::cfg::loadIniFile(path), path);
-  options.simulator.seed = 2;
+  options.simulator.seed = seed;
   const gmc::sim::Simulator sim(options);
-  gmc::vo::OdometryConfig with_config, without_config;
-  without_config.hindsight.enabled = false;
-  gmc::vo::RgbdOdometry with(with_config), without(without_config);
-  std::map<long, gmc::Isometry> given[2], truth;
-  for (int i = 0; i < 60; ++i) {
+  for (int i = 0; i < count; ++i) {
     const auto rendered = sim.renderFrame(i);
     const auto& f = rendered.frame;
     cv::Mat gray;
     cv::cvtColor(f.rgb, gray, cv::COLOR_BGR2GRAY);
     int k = 0;
-    for (auto* vo : {&with, &without}) {
-      const auto t = vo->process(gray, f.depth, f.depth_units, f.camera, f.stamp);
-      given[k][t.frame_number] = t.T_world_camera;
-      for (const auto& revised : t.revised) given[k][revised.frame_number] = revised.T_world_camera;
-      truth[t.frame_number] = rendered.T_world_camera;
-      ++k;
-    }
+    for (auto* vo : {&first, &second}) visit(k++, rendered, vo->process(gray, f.depth, f.depth_units, f.camera, f.stamp));
   }
+}
+
+/// The synchronous scenario at seed 2 over 60 frames, with the hindsight (first) and
+/// without: the worst error of frames 2-20 (every revision applied) relative to frame 30,
+/// against the truth's (the world frame may be off by what the first frames missed; their
+/// place on the path is what matters). The frames are rendered once for both runs.
+std::pair<double, double> synchronousEarlyFrames() {
+  gmc::vo::OdometryConfig with_config, without_config;
+  without_config.hindsight.enabled = false;
+  gmc::vo::RgbdOdometry with(with_config), without(without_config);
+  std::map<long, gmc::Isometry> given[2], truth;
+  trackSynchronousTwice(2, 60, with, without, [&](int k, const gmc::sim::SimFrame& rendered, const auto& t) {
+    given[k][t.frame_number] = t.T_world_camera;
+    for (const auto& revised : t.revised) given[k][revised.frame_number] = revised.T_world_camera;
+    truth[t.frame_number] = rendered.T_world_camera;
+  });
   double worst[2] = {0, 0};
   for (int k = 0; k < 2; ++k)
     for (long n = 2; n <= 20; ++n) {
@@ -316,38 +321,26 @@ struct SkipUnheldResult {
   double written[2] = {0, 0}, live[2] = {0, 0};
 };
 SkipUnheldResult synchronousWithAndWithoutUnheld() {
-  const std::string path = GMC_SOURCE_DIR "/config/sim/synchronous.ini";
-  auto options = gmc::sim::loadSimOptions(gmc::cfg::loadIniFile(path), path);
-  options.simulator.seed = 1;
-  const gmc::sim::Simulator sim(options);
   gmc::vo::OdometryConfig with_config, without_config;
   with_config.odometry.random_seed = without_config.odometry.random_seed = 2;
   without_config.window.skip_unheld = false;
   gmc::vo::RgbdOdometry with(with_config), without(without_config);
   std::map<long, gmc::datasets::StampedPose> written[2];
-  std::vector<gmc::datasets::StampedPose> live[2], truth, live_truth;
-  for (int i = 0; i < 130; ++i) {
-    const auto rendered = sim.renderFrame(i);
-    const auto& f = rendered.frame;
-    cv::Mat gray;
-    cv::cvtColor(f.rgb, gray, cv::COLOR_BGR2GRAY);
-    int k = 0;
-    for (auto* vo : {&with, &without}) {
-      const auto t = vo->process(gray, f.depth, f.depth_units, f.camera, f.stamp);
-      written[k][t.frame_number] = {t.stamp, t.T_world_camera};
-      for (const auto& r : t.revised) written[k][r.frame_number] = {r.stamp, r.T_world_camera};
-      if (t.frame_number >= 40) live[k].push_back({t.stamp, t.T_world_camera});
-      ++k;
-    }
-    truth.push_back({f.stamp, rendered.T_world_camera});
-    if (i + 1 >= 40) live_truth.push_back({f.stamp, rendered.T_world_camera});
-  }
+  std::vector<gmc::datasets::StampedPose> live[2], truth[2], live_truth[2];
+  trackSynchronousTwice(1, 130, with, without, [&](int k, const gmc::sim::SimFrame& rendered, const auto& t) {
+    written[k][t.frame_number] = {t.stamp, t.T_world_camera};
+    for (const auto& r : t.revised) written[k][r.frame_number] = {r.stamp, r.T_world_camera};
+    truth[k].push_back({t.stamp, rendered.T_world_camera});
+    if (t.frame_number < 40) return;
+    live[k].push_back({t.stamp, t.T_world_camera});
+    live_truth[k].push_back({t.stamp, rendered.T_world_camera});
+  });
   SkipUnheldResult r;
   for (int k = 0; k < 2; ++k) {
     std::vector<gmc::datasets::StampedPose> trajectory;
     for (const auto& [n, pose] : written[k]) trajectory.push_back(pose);
-    r.written[k] = gmc::datasets::computeAte(truth, trajectory).error.rmse;
-    r.live[k] = gmc::datasets::computeAte(live_truth, live[k]).error.rmse;
+    r.written[k] = gmc::datasets::computeAte(truth[k], trajectory).error.rmse;
+    r.live[k] = gmc::datasets::computeAte(live_truth[k], live[k]).error.rmse;
   }
   return r;
 }
