@@ -3,10 +3,13 @@
 #include <random>
 
 #include "gmc/vo/hindsight.h"
+#include "seen_features.h"
 
 namespace {
 
 using gmc::Isometry;
+using gmc::test::randomDescriptor;
+using gmc::test::SeenFeatures;
 using gmc::vo::HindsightFrame;
 using gmc::vo::HindsightOptions;
 using gmc::vo::HindsightPoser;
@@ -17,12 +20,6 @@ using gmc::vo::RevisedPose;
 const gmc::PinholeCamera kCamera{};  // TUM fr3, 640x480
 constexpr double kStep = 0.05;       // m per frame: the camera walks sideways, fast
 constexpr int kLag = 5;
-
-std::array<std::uint8_t, 32> randomDescriptor(std::mt19937& rng) {
-  std::array<std::uint8_t, 32> d{};
-  for (auto& b : d) b = static_cast<std::uint8_t>(rng() & 0xff);
-  return d;
-}
 
 /// n points of a room 2.5-4 m ahead, spread over x in [x0, x1] (world frame).
 std::vector<Landmark> points(int n, double x0, double x1, std::mt19937& rng) {
@@ -45,24 +42,10 @@ Isometry truePose(int frame) {
 /// walking in step with it (`group`: their positions in the camera's frame).
 gmc::features::FeatureSet frame(const std::vector<Landmark>& room, const std::vector<Landmark>& group,
                                 const Isometry& T_world_camera) {
-  gmc::features::FeatureSet f;
-  f.width = kCamera.width;
-  f.height = kCamera.height;
-  std::vector<std::array<std::uint8_t, 32>> descriptors;
-  auto add = [&](const Eigen::Vector3d& p, const std::array<std::uint8_t, 32>& d) {
-    if (p.z() <= 0.3) return;
-    const Eigen::Vector2d uv = kCamera.project(p);
-    if (!kCamera.inside(uv.x(), uv.y())) return;
-    f.keypoints.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()), 7.f);
-    f.points.push_back(p);
-    descriptors.push_back(d);
-  };
-  for (const auto& l : room) add(T_world_camera.inverse() * l.position, l.descriptor);
-  for (const auto& l : group) add(l.position, l.descriptor);
-  f.descriptors.create(static_cast<int>(descriptors.size()), 32, CV_8UC1);
-  for (size_t i = 0; i < descriptors.size(); ++i)
-    std::memcpy(f.descriptors.ptr<std::uint8_t>(static_cast<int>(i)), descriptors[i].data(), 32);
-  return f;
+  SeenFeatures seen(kCamera);
+  for (const auto& l : room) seen.add(T_world_camera.inverse() * l.position, l.descriptor);
+  for (const auto& l : group) seen.add(l.position, l.descriptor);
+  return seen.take();
 }
 
 struct Scene {

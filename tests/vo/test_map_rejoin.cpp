@@ -3,22 +3,19 @@
 #include <random>
 
 #include "gmc/vo/map_rejoin.h"
+#include "seen_features.h"
 
 namespace {
 
 using gmc::Isometry;
+using gmc::test::randomDescriptor;
+using gmc::test::SeenFeatures;
 using gmc::vo::Landmark;
 using gmc::vo::MapRejoin;
 using gmc::vo::RejoinAttempt;
 using gmc::vo::RejoinOptions;
 
 const gmc::PinholeCamera kCamera{};  // TUM fr3, 640x480
-
-std::array<std::uint8_t, 32> randomDescriptor(std::mt19937& rng) {
-  std::array<std::uint8_t, 32> d{};
-  for (auto& b : d) b = static_cast<std::uint8_t>(rng() & 0xff);
-  return d;
-}
 
 /// n landmarks of a room 2-4 m in front of the old world's origin, each with its own
 /// descriptor (random 256 bits: any two differ by about 128).
@@ -38,29 +35,15 @@ std::vector<Landmark> room(int n, std::mt19937& rng) {
 /// landmarks are (what a walker or a look-alike corner offers).
 gmc::features::FeatureSet frame(const std::vector<Landmark>& landmarks, const Isometry& T_old_cur, int clutter,
                                 int walkers, std::mt19937& rng) {
-  gmc::features::FeatureSet f;
-  f.width = kCamera.width;
-  f.height = kCamera.height;
-  std::vector<std::array<std::uint8_t, 32>> descriptors;
-  auto add = [&](const Eigen::Vector3d& p_cur, const std::array<std::uint8_t, 32>& d) {
-    if (p_cur.z() <= 0.3) return;
-    const Eigen::Vector2d uv = kCamera.project(p_cur);
-    if (!kCamera.inside(uv.x(), uv.y())) return;
-    f.keypoints.emplace_back(static_cast<float>(uv.x()), static_cast<float>(uv.y()), 7.f);
-    f.points.push_back(p_cur);
-    descriptors.push_back(d);
-  };
+  SeenFeatures seen(kCamera);
   const Isometry T_cur_old = T_old_cur.inverse();
-  for (const auto& l : landmarks) add(T_cur_old * l.position, l.descriptor);
+  for (const auto& l : landmarks) seen.add(T_cur_old * l.position, l.descriptor);
   std::uniform_real_distribution<double> x(-1.0, 1.0), z(1.5, 4.0);
-  for (int i = 0; i < clutter; ++i) add(Eigen::Vector3d(x(rng), x(rng), z(rng)), randomDescriptor(rng));
+  for (int i = 0; i < clutter; ++i) seen.add(Eigen::Vector3d(x(rng), x(rng), z(rng)), randomDescriptor(rng));
   for (int i = 0; i < walkers && i < static_cast<int>(landmarks.size()); ++i)
-    add(T_cur_old * (landmarks[static_cast<size_t>(i)].position + Eigen::Vector3d(0.5, 0, 0)),
-        landmarks[static_cast<size_t>(i)].descriptor);
-  f.descriptors.create(static_cast<int>(descriptors.size()), 32, CV_8UC1);
-  for (size_t i = 0; i < descriptors.size(); ++i)
-    std::memcpy(f.descriptors.ptr<std::uint8_t>(static_cast<int>(i)), descriptors[i].data(), 32);
-  return f;
+    seen.add(T_cur_old * (landmarks[static_cast<size_t>(i)].position + Eigen::Vector3d(0.5, 0, 0)),
+             landmarks[static_cast<size_t>(i)].descriptor);
+  return seen.take();
 }
 
 Isometry pose(double yaw_deg, const Eigen::Vector3d& t) {

@@ -887,17 +887,19 @@ Isometry RgbdOdometry::optimizeWindow(const PinholeCamera& camera, double stamp,
       if (usable(ob.landmark)) observed.back().push_back(ob.landmark);
     std::sort(observed.back().begin(), observed.back().end());
   }
-  // The newest keyframe's landmarks are this frame's: it is always held.
+  // The newest keyframe is this frame, held by the landmarks it was just posed on; the
+  // window's last pose must be it.
   if (candidates.empty() || candidates.back() + 1 != window_keyframes_.size())
     return window_keyframes_.back().T_world_kf;
-  std::vector<size_t> window;
-  for (size_t c : selectWindowKeyframes(observed, config_.window)) window.push_back(candidates[c]);
+  const std::vector<size_t> chosen = selectWindowKeyframes(observed, config_.window);  // into candidates
   // Static landmarks seen from at least min_observations keyframes of the window.
   std::map<int, int> index_of;  // landmark id -> point index
   std::map<int, int> count;
-  for (size_t k : window)
-    for (const auto& ob : window_keyframes_[k].observations)
-      if (usable(ob.landmark)) ++count[ob.landmark];
+  std::vector<size_t> window;  // into window_keyframes_
+  for (size_t c : chosen) {
+    for (int id : observed[c]) ++count[id];
+    window.push_back(candidates[c]);
+  }
   WindowProblem problem;
   for (const auto& [id, n] : count) {
     if (n < config_.window.min_observations) continue;
