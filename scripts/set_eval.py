@@ -13,6 +13,8 @@ of the ATE ratios over fixed sets of runs. This script is those sets:
           and the two joined into one 221-frame run (RGB frames 240-460 of the sequence:
           the issue's failing stretch after a good start) whole and every 150-frame window
           (step 10) (9): read, never chosen on
+  teddy   TUM fr3 teddy from frames 0/3/6/9/12 (5, the choice set's real runs): a static
+          scene over starts and streams, with and without GMC (--set GMC.enabled=false)
 
 Generated sequences are 300 frames (config/sim/<scenario>.ini, --seed), made once into
 --data and reused; real folders come from --shared and a set whose folder is absent is
@@ -22,6 +24,7 @@ skipped with a message. Each run is gmc-rgbd-mapping without the map, then gmc-e
       [--set-generated Section.key=value] [--random-seeds N] [--bin build/bin] [--jobs 2]
   scripts/set_eval.py compare out/sets/base.json out/sets/new.json [--stream-moves 0.05]
   scripts/set_eval.py windows out/sets/base.json
+  scripts/set_eval.py spread out/sets/teddy.json [--sets teddy]
 
 With --random-seeds N every run is repeated with [Odometry] random_seed = 0 .. N-1 (other,
 equally valid RANSAC sampling streams) and its figure is the median over them (all of
@@ -82,6 +85,7 @@ SETS = {
     'other': {'generated': generated(['stop_and_go', 'person_tracking', 'walkers_xyz', 'close_pass'], [1, 2, 3, 4])
               + generated(['synchronous'], [3, 4, 11, 12, 13, 14])},
     'bonn': {'bonn': True},
+    'teddy': {'teddy_starts': [0, 3, 6, 9, 12]},
 }
 TEDDY = 'tum_fr3_teddy_1_100'
 BONN = ['bonn_crowd_240_389', 'bonn_crowd_301_460']
@@ -328,6 +332,30 @@ def windows(args):
             print(line)
 
 
+def spread_lines(runs):
+    """Per run the median [min-max] over its streams, then every stream-run's median and max."""
+    lines, every = [], []
+    for name, r in runs.items():
+        ates = sorted(r.get('ate_per_seed') or [r['ate']])
+        every += ates
+        lines.append('%-28s %.4f [%.4f-%.4f] over %d stream%s' % (name, r['ate'], ates[0], ates[-1], len(ates),
+                                                                  '' if len(ates) == 1 else 's'))
+    if every:
+        lines.append('all %d stream-runs: median %.4f, max %.4f' % (len(every), statistics.median(every), max(every)))
+    return lines
+
+
+def spread(args):
+    with open(args.file) as f:
+        runs = json.load(f)['runs']
+    for set_name in args.sets.split(','):
+        if set_name not in runs:
+            sys.exit('set_eval.py: %s holds no %s set (run it with --sets %s)' % (args.file, set_name, set_name))
+        print(set_name)
+        for line in spread_lines(runs[set_name]):
+            print('  ' + line)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = p.add_subparsers(dest='command', required=True)
@@ -351,6 +379,9 @@ def main():
                    help='also print every stream-run that moved by more than this share (e.g. 0.05)')
     w = sub.add_parser('windows', help="the bonn set's whole folders and windows against standing still, per stream")
     w.add_argument('file')
+    sp = sub.add_parser('spread', help='per run the median [min-max] over streams; every stream-run median and max')
+    sp.add_argument('file')
+    sp.add_argument('--sets', default='teddy')
     args = p.parse_args()
     if args.command == 'run':
         unknown = [s for s in args.sets.split(',') if s not in SETS]
@@ -361,6 +392,8 @@ def main():
         run(args)
     elif args.command == 'windows':
         windows(args)
+    elif args.command == 'spread':
+        spread(args)
     else:
         compare(args)
 

@@ -73,9 +73,17 @@ class Sets(unittest.TestCase):
             args = argparse.Namespace(data='out/seeds', shared=shared, work_dir=shared)
             sizes = {s: len(set_eval.runs_of(s, args)) for s in set_eval.SETS}
             joined = [r for r in set_eval.runs_of('bonn', args) if r[0].startswith('240_460')]
-        self.assertEqual(sizes, {'choice': 23, 'held': 18, 'other': 22, 'bonn': 32})
+        self.assertEqual(sizes, {'choice': 23, 'held': 18, 'other': 22, 'bonn': 32, 'teddy': 5})
         self.assertEqual([(r[0], r[3], r[4]) for r in joined[:2]], [('240_460 whole', 0, 0), ('240_460 window +0', 0, 150)])
         self.assertEqual(joined[-1][0], '240_460 window +70')
+
+    def test_the_spread_gives_each_run_over_its_streams_and_every_stream_run(self):
+        runs = {'teddy +0': {'ate': 0.004, 'ate_per_seed': [0.005, 0.003, 0.004]},
+                'teddy +3': {'ate': 0.002}}
+        self.assertEqual(set_eval.spread_lines(runs),
+                         ['teddy +0                     0.0040 [0.0030-0.0050] over 3 streams',
+                          'teddy +3                     0.0020 [0.0020-0.0020] over 1 stream',
+                          'all 4 stream-runs: median 0.0035, max 0.0050'])
 
     def test_absent_real_folders_are_skipped_not_run(self):
         with tempfile.TemporaryDirectory() as shared:
