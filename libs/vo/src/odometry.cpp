@@ -114,8 +114,37 @@ bool RgbdOdometry::standStillWhileLost() const {
 FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, double depth_units,
                                     const PinholeCamera& camera, double stamp, const cv::Mat& known_dynamic) {
   const auto t_start = Clock::now();
-  maskable_.clear();
   FrameTracking out;
+  features::FeatureSet cur = extractFeatures(gray, depth, depth_units, camera, stamp, known_dynamic, out);
+  if (!initialized_) {
+    initialize(std::move(cur), camera, stamp, out);
+    out.times.total = msSince(t_start);
+    return out;
+  }
+  const FrameDepth frame_depth{depth, depth_units, known_dynamic};
+  // 1. Predict, and match the frame to the previous one (labels) and to the map (pose).
+  const Isometry T_world_pred = predictPose();
+  matchFrame(cur, T_world_pred, camera, stamp, out);
+  // 2. The background: motion hypotheses judged by GMC and the landmarks' static evidence.
+  selectBackground(cur, stamp, out);
+  // 3. Refinement on the static matches (and the room's depth), 4. tracked or lost.
+  const bool after_lost_frames = lost_streak_ > 0;
+  poseFrame(cur, frame_depth, camera, stamp, T_world_pred, out);
+  // 5. Labels for the mask from the previous frame; dynamic memory.
+  labelForMask(cur, out);
+  // 6. Static evidence, keyframes, windowed optimisation.
+  updateMapAndWindow(cur, frame_depth, camera, stamp, after_lost_frames, out);
+  // 7. The trajectory's revisions, and what the next frame starts from.
+  finishFrame(std::move(cur), camera, stamp, out);
+  out.times.total = msSince(t_start);
+  return out;
+}
+
+features::FeatureSet RgbdOdometry::extractFeatures(const cv::Mat& gray, const cv::Mat& depth, double depth_units,
+                                                   const PinholeCamera& camera, double stamp,
+                                                   const cv::Mat& known_dynamic, FrameTracking& out) {
+  const auto t0 = Clock::now();
+  maskable_.clear();
   out.stamp = stamp;
   out.frame_number = ++frame_number_;
   features::FeatureSet cur = frontend_.extract(gray, depth, depth_units, camera);
@@ -124,25 +153,23 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   for (const auto& kp : cur.keypoints) out.keypoints.push_back(kp.pt);
   out.keypoint_labels.assign(cur.size(), MotionLabel::Undecided);
   out.keypoint_in_pose.assign(cur.size(), 0);
-  out.times.frontend = msSince(t_start);
-  if (!initialized_) {
-    initialize(std::move(cur), camera, stamp, out);
-    out.times.total = msSince(t_start);
-    return out;
-  }
+  out.times.frontend = msSince(t0);
+  return cur;
+}
 
-  // 1. Predict, and match the frame to the previous one (labels) and to the map (pose).
-  const Isometry T_world_pred = predictPose();
-  auto t0 = Clock::now();
+void RgbdOdometry::matchFrame(const features::FeatureSet& cur, const Isometry& T_world_pred,
+                              const PinholeCamera& camera, double stamp, FrameTracking& out) {
+  const auto t0 = Clock::now();
   matchPreviousFrame(cur, T_world_pred, camera);
   matchToMap(cur, T_world_pred, camera, stamp, track_);
   out.num_matches = track_.num_matches;
   out.landmarks_in_view = static_cast<int>(track_.view.ids.size());
   countRefound(out);
   out.times.frontend += msSince(t0);
+}
 
-  // 2. The background: motion hypotheses judged by GMC and the landmarks' static evidence.
-  t0 = Clock::now();
+void RgbdOdometry::selectBackground(const features::FeatureSet& cur, double stamp, FrameTracking& out) {
+  const auto t0 = Clock::now();
   // The prior widens with every lost frame: their poses are guesses.
   SelectionContext context;
   context.frame_gap = (stamp - last_stamp_) * (1 + lost_streak_);
@@ -156,33 +183,40 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   out.static_landmarks_matched = choice_.established_matched;
   out.static_landmarks_agreeing = choice_.established_agreeing;
   out.times.guess += msSince(t0);
+}
 
-  // 3. Refinement on the static matches (and the room's depth), 4. tracked or lost.
-  t0 = Clock::now();
+void RgbdOdometry::poseFrame(const features::FeatureSet& cur, const FrameDepth& frame_depth,
+                             const PinholeCamera& camera, double stamp, const Isometry& T_world_pred,
+                             FrameTracking& out) {
+  auto t0 = Clock::now();
   const Isometry T_world_guess = T_world_pred * choice_.T_ref_cur;
-  sampleDepthForPose(cur, depth, depth_units, camera, stamp, known_dynamic, T_world_guess);
+  sampleDepthForPose(cur, frame_depth.depth, frame_depth.depth_units, camera, stamp, frame_depth.known_dynamic,
+                     T_world_guess);
   const RefinementResult refined = refineOnBackground(T_world_guess, T_world_pred, stamp - last_stamp_, camera, out);
   out.times.refine += msSince(t0);
-  const bool after_lost_frames = lost_streak_ > 0;
   decideTracking(refined, orthonormalized(refined.T_cur_ref).inverse(), choice_.trustworthy, T_world_pred, out);
   revertUnheldStart(out);
   t0 = Clock::now();
   judgeStart(stamp, camera, out);  // a young map's frames judged together: with the hypotheses' time
   out.times.guess += msSince(t0);
   if (out.state == TrackingState::Tracking && rejoin_.active()) tryRejoin(cur, camera, stamp, out);
+}
 
-  // 5. Labels for the mask from the previous frame; dynamic memory.
+void RgbdOdometry::labelForMask(const features::FeatureSet& cur, FrameTracking& out) {
   if (!previous_matches_.empty() && config_.odometry.previous_frame_labels)
     labelAgainstPreviousFrame(cur, out.T_world_camera, out);
   for (size_t i = 0; i < cur.size(); ++i)
     if (fresh_dynamic_[i]) memory_[i] = config_.odometry.dynamic_memory_frames;
+}
 
+void RgbdOdometry::updateMapAndWindow(const features::FeatureSet& cur, const FrameDepth& frame_depth,
+                                      const PinholeCamera& camera, double stamp, bool after_lost_frames,
+                                      FrameTracking& out) {
   rememberTrackedFrame(out);
   // Re-posed frames (a start consensus, a rejoin) do not continue the poses before them.
   tracks_.extend(cur, previous_matches_, out.T_world_camera,
                  out.state == TrackingState::Tracking && !out.start_consensus && !out.rejoined);
-  // 6. Static evidence, keyframes, windowed optimisation.
-  t0 = Clock::now();
+  const auto t0 = Clock::now();
   updateMap(cur, camera, stamp, out);
   if (out.new_keyframe && out.state == TrackingState::Tracking && config_.window.keyframes > 1)
     out.T_world_camera = orthonormalized(optimizeWindow(camera, stamp, out));
@@ -194,13 +228,16 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   }
   out.map_landmarks = static_cast<int>(map_.numAlive());
   if (out.state == TrackingState::Tracking) {
-    free_space_.push(depth, depth_units, out.T_world_camera, stamp);
-    keepDepthReference(out, depth, depth_units, camera, stamp, known_dynamic);
+    free_space_.push(frame_depth.depth, frame_depth.depth_units, out.T_world_camera, stamp);
+    keepDepthReference(out, frame_depth.depth, frame_depth.depth_units, camera, stamp, frame_depth.known_dynamic);
   }
   out.times.window = msSince(t0);
+}
+
+void RgbdOdometry::finishFrame(features::FeatureSet&& cur, const PinholeCamera& camera, double stamp,
+                               FrameTracking& out) {
   bridgeLostFrames(out);
   smoothTrajectory(out);
-
   if (hindsight_.options().enabled) {
     previous_ = cur;  // the descriptors are shared; the hindsight keeps the frame
     reviseInHindsight(std::move(cur), camera, out);
@@ -211,8 +248,6 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   T_world_previous_ = out.T_world_camera;
   T_world_last_ = out.T_world_camera;
   last_stamp_ = stamp;
-  out.times.total = msSince(t_start);
-  return out;
 }
 
 void RgbdOdometry::distrustMaskedLandmarks(const cv::Mat& mask) {

@@ -270,6 +270,36 @@ class RgbdOdometry {
     std::vector<int> pose_landmarks;              ///< the landmarks that held its tracked pose
   };
 
+  /// A frame's depth image and known-dynamic mask, as process() was given them.
+  struct FrameDepth {
+    const cv::Mat& depth;
+    double depth_units;
+    const cv::Mat& known_dynamic;
+  };
+
+  // The steps of process(), in order.
+  /// The frame's features (known-dynamic ones marked) and out's per-keypoint fields.
+  features::FeatureSet extractFeatures(const cv::Mat& gray, const cv::Mat& depth, double depth_units,
+                                       const PinholeCamera& camera, double stamp, const cv::Mat& known_dynamic,
+                                       FrameTracking& out);
+  /// 1. Matches to the previous frame (labels) and to the map (pose), at the prediction.
+  void matchFrame(const features::FeatureSet& cur, const Isometry& T_world_pred, const PinholeCamera& camera,
+                  double stamp, FrameTracking& out);
+  /// 2. The background's motion and GMC's labels under it (choice_).
+  void selectBackground(const features::FeatureSet& cur, double stamp, FrameTracking& out);
+  /// 3-4. The pose refined on the background; tracked or lost; a young map's start
+  /// judged; a rejoin tried.
+  void poseFrame(const features::FeatureSet& cur, const FrameDepth& frame_depth, const PinholeCamera& camera,
+                 double stamp, const Isometry& T_world_pred, FrameTracking& out);
+  /// 5. Labels against the previous frame for the mask; the dynamic memory.
+  void labelForMask(const features::FeatureSet& cur, FrameTracking& out);
+  /// 6. Static evidence, keyframes, the window; the velocity of a tracked frame.
+  void updateMapAndWindow(const features::FeatureSet& cur, const FrameDepth& frame_depth,
+                          const PinholeCamera& camera, double stamp, bool after_lost_frames, FrameTracking& out);
+  /// 7. Revisions of earlier poses (bridged, smoothed, in hindsight); the frame becomes
+  /// the previous one.
+  void finishFrame(features::FeatureSet&& cur, const PinholeCamera& camera, double stamp, FrameTracking& out);
+
   /// known_dynamic_ for the frame's keypoints (2 px margin); throws on a wrong mask.
   void markKnownDynamic(const features::FeatureSet& cur, const cv::Mat& known_dynamic);
   void initialize(features::FeatureSet&& cur, const PinholeCamera& camera, double stamp, FrameTracking& out);
