@@ -76,16 +76,17 @@ def generated(scenarios, seeds):
     return [(s, k) for s in scenarios for k in seeds]
 
 
+TEDDY_STARTS = [0, 3, 6, 9, 12]
 SETS = {
     'choice': {'generated': generated(['crowd', 'crowd_hover', 'crowd_start', 'stop_and_go_hover'], [1, 2, 3, 4])
                + generated(['synchronous'], [1, 2]),
-               'teddy_starts': [0, 3, 6, 9, 12]},
+               'teddy_starts': TEDDY_STARTS},
     'held': {'generated': generated(['crowd_hover', 'crowd_start', 'stop_and_go_hover'], [11, 12, 13, 14])
              + generated(['crowd'], [11, 12, 13, 14, 15, 16])},
     'other': {'generated': generated(['stop_and_go', 'person_tracking', 'walkers_xyz', 'close_pass'], [1, 2, 3, 4])
               + generated(['synchronous'], [3, 4, 11, 12, 13, 14])},
     'bonn': {'bonn': True},
-    'teddy': {'teddy_starts': [0, 3, 6, 9, 12]},
+    'teddy': {'teddy_starts': TEDDY_STARTS},
 }
 TEDDY = 'tum_fr3_teddy_1_100'
 BONN = ['bonn_crowd_240_389', 'bonn_crowd_301_460']

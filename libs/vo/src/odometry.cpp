@@ -115,13 +115,13 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
                                     const PinholeCamera& camera, double stamp, const cv::Mat& known_dynamic) {
   const auto t_start = Clock::now();
   FrameTracking out;
-  features::FeatureSet cur = extractFeatures(gray, depth, depth_units, camera, stamp, known_dynamic, out);
+  const FrameDepth frame_depth{depth, depth_units, known_dynamic};
+  features::FeatureSet cur = extractFeatures(gray, frame_depth, camera, stamp, out);
   if (!initialized_) {
     initialize(std::move(cur), camera, stamp, out);
     out.times.total = msSince(t_start);
     return out;
   }
-  const FrameDepth frame_depth{depth, depth_units, known_dynamic};
   // 1. Predict, and match the frame to the previous one (labels) and to the map (pose).
   const Isometry T_world_pred = predictPose();
   matchFrame(cur, T_world_pred, camera, stamp, out);
@@ -140,16 +140,15 @@ FrameTracking RgbdOdometry::process(const cv::Mat& gray, const cv::Mat& depth, d
   return out;
 }
 
-features::FeatureSet RgbdOdometry::extractFeatures(const cv::Mat& gray, const cv::Mat& depth, double depth_units,
-                                                   const PinholeCamera& camera, double stamp,
-                                                   const cv::Mat& known_dynamic, FrameTracking& out) {
+features::FeatureSet RgbdOdometry::extractFeatures(const cv::Mat& gray, const FrameDepth& frame_depth,
+                                                   const PinholeCamera& camera, double stamp, FrameTracking& out) {
   const auto t0 = Clock::now();
   maskable_.clear();
   out.stamp = stamp;
   out.frame_number = ++frame_number_;
-  features::FeatureSet cur = frontend_.extract(gray, depth, depth_units, camera);
+  features::FeatureSet cur = frontend_.extract(gray, frame_depth.depth, frame_depth.depth_units, camera);
   out.num_features = static_cast<int>(cur.size());
-  markKnownDynamic(cur, known_dynamic);
+  markKnownDynamic(cur, frame_depth.known_dynamic);
   for (const auto& kp : cur.keypoints) out.keypoints.push_back(kp.pt);
   out.keypoint_labels.assign(cur.size(), MotionLabel::Undecided);
   out.keypoint_in_pose.assign(cur.size(), 0);

@@ -279,9 +279,8 @@ class RgbdOdometry {
 
   // The steps of process(), in order.
   /// The frame's features (known-dynamic ones marked) and out's per-keypoint fields.
-  features::FeatureSet extractFeatures(const cv::Mat& gray, const cv::Mat& depth, double depth_units,
-                                       const PinholeCamera& camera, double stamp, const cv::Mat& known_dynamic,
-                                       FrameTracking& out);
+  features::FeatureSet extractFeatures(const cv::Mat& gray, const FrameDepth& frame_depth, const PinholeCamera& camera,
+                                       double stamp, FrameTracking& out);
   /// 1. Matches to the previous frame (labels) and to the map (pose), at the prediction.
   void matchFrame(const features::FeatureSet& cur, const Isometry& T_world_pred, const PinholeCamera& camera,
                   double stamp, FrameTracking& out);
