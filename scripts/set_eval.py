@@ -144,14 +144,15 @@ def joined_runs(args, configs, set_name):
 
 def run(args):
     sets = args.sets.split(',')
-    for set_name in sets:
-        for scenario, seed in SETS[set_name].get('generated', []):
-            generate_sequence(args.bin, args.data, scenario, seed, GENERATED_FRAMES)
+    # config/ is copied before anything else: generating the sequences can take half an hour.
     with tempfile.TemporaryDirectory() as frozen:
         args.config_dir = os.path.join(frozen, 'config')
         args.work_dir = frozen
         shutil.copytree('config', args.config_dir)
         args.config_digest = config_digest(args.config_dir)
+        for set_name in sets:
+            for scenario, seed in SETS[set_name].get('generated', []):
+                generate_sequence(args.bin, args.data, scenario, seed, GENERATED_FRAMES)
         run_frozen(args, sets)
 
 
