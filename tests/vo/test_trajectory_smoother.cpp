@@ -40,7 +40,7 @@ RevisedPose frameAt(long n, const Isometry& T) { return {n, static_cast<double>(
 
 TEST(TrajectorySmoother, OffGivesNothing) {
   TrajectorySmoother smoother(0);
-  for (long n = 0; n < 20; ++n) EXPECT_FALSE(smoother.add(frameAt(n, quadraticPath(n / kFps))));
+  for (long n = 0; n < 20; ++n) EXPECT_TRUE(smoother.add(frameAt(n, quadraticPath(n / kFps))).empty());
 }
 
 // The pose k frames back, once 2k + 1 tracked frames are in: a quadratic path is kept
@@ -50,14 +50,14 @@ TEST(TrajectorySmoother, RevisesTheFrameHalfAWindowBackAndKeepsAQuadraticPathExa
   for (long n = 0; n < 30; ++n) {
     const auto revised = smoother.add(frameAt(n, quadraticPath(n / kFps)));
     if (n < 8) {
-      EXPECT_FALSE(revised) << "frame " << n;
+      EXPECT_TRUE(revised.empty()) << "frame " << n;
       continue;
     }
-    ASSERT_TRUE(revised) << "frame " << n;
-    EXPECT_EQ(revised->frame_number, n - 4);
+    ASSERT_EQ(revised.size(), 1u) << "frame " << n;
+    EXPECT_EQ(revised[0].frame_number, n - 4);
     const Isometry truth = quadraticPath((n - 4) / kFps);
-    EXPECT_LT((revised->T_world_camera.translation() - truth.translation()).norm(), 1e-9);
-    EXPECT_LT(rotationDeg(revised->T_world_camera, truth), 1e-7);
+    EXPECT_LT((revised[0].T_world_camera.translation() - truth.translation()).norm(), 1e-9);
+    EXPECT_LT(rotationDeg(revised[0].T_world_camera, truth), 1e-7);
   }
 }
 
@@ -77,14 +77,14 @@ TEST(TrajectorySmoother, RemovesFrameToFrameNoiseWithoutBendingATurningPath) {
     const Eigen::Vector3d w(angle(rng), angle(rng), angle(rng));
     noisy.linear() = noisy.linear() * Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
     given.push_back(noisy);
-    const auto revised = smoother.add(frameAt(n, noisy));
-    if (!revised) continue;
-    const Isometry truth = circlingPath(revised->frame_number / kFps);
-    raw2 += (given[static_cast<size_t>(revised->frame_number)].translation() - truth.translation()).squaredNorm();
-    smooth2 += (revised->T_world_camera.translation() - truth.translation()).squaredNorm();
-    raw_rot2 += std::pow(rotationDeg(given[static_cast<size_t>(revised->frame_number)], truth), 2);
-    smooth_rot2 += std::pow(rotationDeg(revised->T_world_camera, truth), 2);
-    ++count;
+    for (const RevisedPose& revised : smoother.add(frameAt(n, noisy))) {
+      const Isometry truth = circlingPath(revised.frame_number / kFps);
+      raw2 += (given[static_cast<size_t>(revised.frame_number)].translation() - truth.translation()).squaredNorm();
+      smooth2 += (revised.T_world_camera.translation() - truth.translation()).squaredNorm();
+      raw_rot2 += std::pow(rotationDeg(given[static_cast<size_t>(revised.frame_number)], truth), 2);
+      smooth_rot2 += std::pow(rotationDeg(revised.T_world_camera, truth), 2);
+      ++count;
+    }
   }
   ASSERT_EQ(count, 292);
   EXPECT_LT(std::sqrt(smooth2 / count), 0.5 * std::sqrt(raw2 / count));
@@ -92,9 +92,8 @@ TEST(TrajectorySmoother, RemovesFrameToFrameNoiseWithoutBendingATurningPath) {
   // Without noise the circle's fit error is far below the noise removed.
   TrajectorySmoother exact(4);
   for (long n = 0; n < 20; ++n) {
-    const auto r = exact.add(frameAt(n, circlingPath(n / kFps)));
-    if (r) {
-      EXPECT_LT((r->T_world_camera.translation() - circlingPath(r->frame_number / kFps).translation()).norm(), 1e-4);
+    for (const RevisedPose& r : exact.add(frameAt(n, circlingPath(n / kFps)))) {
+      EXPECT_LT((r.T_world_camera.translation() - circlingPath(r.frame_number / kFps).translation()).norm(), 1e-4);
     }
   }
 }
@@ -102,12 +101,12 @@ TEST(TrajectorySmoother, RemovesFrameToFrameNoiseWithoutBendingATurningPath) {
 // A break in the run (lost frame, new or rejoined map) starts it again: no fit spans it.
 TEST(TrajectorySmoother, ARunStartsAgainAfterAReset) {
   TrajectorySmoother smoother(2);
-  for (long n = 0; n < 4; ++n) EXPECT_FALSE(smoother.add(frameAt(n, quadraticPath(n / kFps))));
+  for (long n = 0; n < 4; ++n) EXPECT_TRUE(smoother.add(frameAt(n, quadraticPath(n / kFps))).empty());
   smoother.reset();
-  for (long n = 10; n < 14; ++n) EXPECT_FALSE(smoother.add(frameAt(n, quadraticPath(n / kFps)))) << n;
+  for (long n = 10; n < 14; ++n) EXPECT_TRUE(smoother.add(frameAt(n, quadraticPath(n / kFps))).empty()) << n;
   const auto revised = smoother.add(frameAt(14, quadraticPath(14 / kFps)));
-  ASSERT_TRUE(revised);
-  EXPECT_EQ(revised->frame_number, 12);
+  ASSERT_EQ(revised.size(), 1u);
+  EXPECT_EQ(revised[0].frame_number, 12);
 }
 
 // A jump the tracking followed (a replayed input, a relocalised camera) is not smoothed
@@ -118,7 +117,7 @@ TEST(TrajectorySmoother, AJumpStartsANewRun) {
   for (long n = 0; n < 12; ++n) {
     Isometry T = Isometry::Identity();
     T.translation() = Eigen::Vector3d(0.01 * static_cast<double>(n), n >= 6 ? -1.0 : 0.0, 0);
-    if (const auto r = smoother.add(frameAt(n, T))) revised.push_back(*r);
+    for (const RevisedPose& r : smoother.add(frameAt(n, T))) revised.push_back(r);
   }
   // Frames 2-3 (run 0-5) and 8-9 (run 6-11), each exactly on its own straight line.
   ASSERT_EQ(revised.size(), 4u);
@@ -131,6 +130,55 @@ TEST(TrajectorySmoother, AJumpStartsANewRun) {
     EXPECT_NEAR(r.T_world_camera.translation().y(), y, 1e-9) << r.frame_number;
     EXPECT_NEAR(r.T_world_camera.translation().x(), 0.01 * static_cast<double>(r.frame_number), 1e-9);
   }
+}
+
+// With fit_edges, a run's first and last frames are fitted over its first and last full
+// window: every frame of a run of at least 2k + 1 is revised once, in order, a quadratic
+// path exactly, and frame-to-frame noise at the ends shrinks too.
+TEST(TrajectorySmoother, FitsARunsEdgesOverItsFirstAndLastFullWindow) {
+  TrajectorySmoother smoother(2, 0.1, true);
+  std::vector<RevisedPose> revised;
+  for (long n = 0; n < 8; ++n)
+    for (const RevisedPose& r : smoother.add(frameAt(n, quadraticPath(n / kFps)))) revised.push_back(r);
+  for (const RevisedPose& r : smoother.endRun()) revised.push_back(r);
+  ASSERT_EQ(revised.size(), 8u);
+  for (size_t i = 0; i < revised.size(); ++i) {
+    EXPECT_EQ(revised[i].frame_number, static_cast<long>(i));
+    const Isometry truth = quadraticPath(static_cast<double>(i) / kFps);
+    EXPECT_LT((revised[i].T_world_camera.translation() - truth.translation()).norm(), 1e-9);
+    EXPECT_LT(rotationDeg(revised[i].T_world_camera, truth), 1e-7);
+  }
+  // A run shorter than a full window keeps its poses; a reset discards without fitting.
+  for (long n = 20; n < 24; ++n) EXPECT_TRUE(smoother.add(frameAt(n, quadraticPath(n / kFps))).empty());
+  EXPECT_TRUE(smoother.endRun().empty());
+  for (long n = 30; n < 36; ++n) smoother.add(frameAt(n, quadraticPath(n / kFps)));
+  smoother.reset();
+  EXPECT_TRUE(smoother.endRun().empty());
+
+  // Noise: the end frames' error shrinks (less than at the centre, more than nothing).
+  std::mt19937 rng(3);
+  std::normal_distribution<double> position(0, 0.005);
+  double raw2 = 0, fitted2 = 0;
+  for (int run = 0; run < 200; ++run) {
+    TrajectorySmoother edges(4, 1.0, true);
+    std::vector<Isometry> given;
+    std::vector<RevisedPose> out;
+    for (long n = 0; n < 12; ++n) {
+      Isometry noisy = circlingPath(n / kFps);
+      noisy.translation() += Eigen::Vector3d(position(rng), position(rng), position(rng));
+      given.push_back(noisy);
+      for (const RevisedPose& r : edges.add(frameAt(n, noisy))) out.push_back(r);
+    }
+    for (const RevisedPose& r : edges.endRun()) out.push_back(r);
+    ASSERT_EQ(out.size(), 12u);
+    for (const RevisedPose& r : out) {
+      if (r.frame_number != 0 && r.frame_number != 11) continue;  // the runs' very ends
+      const Isometry truth = circlingPath(r.frame_number / kFps);
+      raw2 += (given[static_cast<size_t>(r.frame_number)].translation() - truth.translation()).squaredNorm();
+      fitted2 += (r.T_world_camera.translation() - truth.translation()).squaredNorm();
+    }
+  }
+  EXPECT_LT(std::sqrt(fitted2), 0.9 * std::sqrt(raw2));
 }
 
 }  // namespace

@@ -84,7 +84,7 @@ RgbdOdometry::RgbdOdometry(const OdometryConfig& config)
       consensus_(config.start_consensus, config.refinement),
       hindsight_(config.hindsight, config.refinement, config.background.inPlace()),
       gmc_previous_(config.gmc),
-      smoother_(config.odometry.smoothing_frames, config.odometry.smoothing_break),
+      smoother_(config.odometry.smoothing_frames, config.odometry.smoothing_break, config.odometry.smoothing_edges),
       tracks_(config.odometry.track_frames),
       free_space_(freeSpaceOptions(config)),
       depth_alignment_(config.depth_alignment) {
@@ -431,12 +431,16 @@ void RgbdOdometry::bridgeLostFrames(FrameTracking& out) {
 void RgbdOdometry::smoothTrajectory(FrameTracking& out) {
   // Revised otherwise (bridged lost frames, a start consensus, a rejoin), the poses of the
   // run so far are not the ones given out: a new run starts with this frame.
-  if (out.state != TrackingState::Tracking || !out.revised.empty() || out.rejoined || out.start_consensus)
+  // A lost frame ends the run with its poses standing: its last frames are fitted too.
+  std::vector<RevisedPose> smoothed;
+  if (!out.revised.empty() || out.rejoined || out.start_consensus)
     smoother_.reset();
-  if (out.state != TrackingState::Tracking) return;
-  if (const auto smoothed = smoother_.add({frame_number_, out.stamp, out.T_world_camera})) {
-    out.revised.push_back(*smoothed);
-    records_.revise(*smoothed);
+  else if (out.state != TrackingState::Tracking)
+    smoothed = smoother_.endRun();
+  if (out.state == TrackingState::Tracking) smoothed = smoother_.add({frame_number_, out.stamp, out.T_world_camera});
+  for (const RevisedPose& revision : smoothed) {
+    out.revised.push_back(revision);
+    records_.revise(revision);
   }
 }
 

@@ -19,10 +19,10 @@ Eigen::Matrix3d expSO3(const Eigen::Vector3d& w) {
 
 }  // namespace
 
-Isometry smoothedMiddlePose(const std::deque<RevisedPose>& window) {
-  const size_t n = window.size(), middle = n / 2;
-  const RevisedPose& centre = window[middle];
-  // Rows [1, dt, dt^2] around the middle stamp: the fit's value at dt = 0 is the
+Isometry smoothedPoseAt(const std::deque<RevisedPose>& window, size_t index) {
+  const size_t n = window.size();
+  const RevisedPose& centre = window[index];
+  // Rows [1, dt, dt^2] around the frame's stamp: the fit's value at dt = 0 is the
   // first coefficient. Time in frames of 1/30 s keeps the columns alike in scale.
   Eigen::MatrixXd A(static_cast<Eigen::Index>(n), 3);
   Eigen::MatrixXd values(static_cast<Eigen::Index>(n), 6);
@@ -54,15 +54,33 @@ bool TrajectorySmoother::continuesRun(const RevisedPose& frame) const {
   return (step - step_before).norm() <= max_step_change_ && turn_change <= max_step_change_;
 }
 
-std::optional<RevisedPose> TrajectorySmoother::add(const RevisedPose& frame) {
-  if (half_window_ <= 0) return std::nullopt;
-  if (!continuesRun(frame)) window_.clear();
+RevisedPose TrajectorySmoother::fitted(size_t index) const {
+  const RevisedPose& frame = window_[index];
+  return {frame.frame_number, frame.stamp, smoothedPoseAt(window_, index)};
+}
+
+std::vector<RevisedPose> TrajectorySmoother::endRun() {
+  std::vector<RevisedPose> out;
+  const auto k = static_cast<size_t>(half_window_);
+  if (fit_edges_ && half_window_ > 0 && window_.size() == 2 * k + 1)
+    for (size_t i = k + 1; i < window_.size(); ++i) out.push_back(fitted(i));
+  window_.clear();
+  return out;
+}
+
+std::vector<RevisedPose> TrajectorySmoother::add(const RevisedPose& frame) {
+  std::vector<RevisedPose> out;
+  if (half_window_ <= 0) return out;
+  if (!continuesRun(frame)) out = endRun();
   window_.push_back(frame);
-  const size_t full = static_cast<size_t>(2 * half_window_ + 1);
-  if (window_.size() > full) window_.pop_front();
-  if (window_.size() < full) return std::nullopt;
-  const RevisedPose& middle = window_[static_cast<size_t>(half_window_)];
-  return RevisedPose{middle.frame_number, middle.stamp, smoothedMiddlePose(window_)};
+  const auto k = static_cast<size_t>(half_window_);
+  const bool first_full = window_.size() == 2 * k + 1;
+  if (window_.size() > 2 * k + 1) window_.pop_front();
+  if (window_.size() < 2 * k + 1) return out;
+  if (first_full && fit_edges_)
+    for (size_t i = 0; i < k; ++i) out.push_back(fitted(i));
+  out.push_back(fitted(k));
+  return out;
 }
 
 }  // namespace gmc::vo

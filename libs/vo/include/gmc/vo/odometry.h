@@ -55,6 +55,8 @@ struct OdometryOptions {
   double smoothing_break = 0.1;         ///< m (and rad): a step that differs from the one
                                         ///< before by more than this starts a new smoothing
                                         ///< run (a jump is not smoothed over)
+  bool smoothing_edges = true;          ///< a run's first and last smoothing_frames frames
+                                        ///< are fitted too, over its first or last full window
   double young_map_lost_still_share = 0.2;  ///< a lost frame stands still instead of
                                         ///< extrapolating the velocity when the map holds no
                                         ///< static evidence yet and at least this share of the
@@ -104,6 +106,8 @@ struct OdometryOptions {
       "later (0 = the live poses)");
     v("smoothing_break", smoothing_break, 0.0, 100.0,
       "m (and rad): a frame whose step differs from the step before by more than this starts a new smoothing run");
+    v("smoothing_edges", smoothing_edges,
+      "fit a smoothing run's first and last smoothing_frames frames too, over its first or last full window");
     v("young_map_lost_still_share", young_map_lost_still_share, 0.0, 2.0,
       "lost frames in a map without static evidence stand still when this share of the last tracked "
       "frame's labelled matches were dynamic (0 = always, above 1 = never)");
