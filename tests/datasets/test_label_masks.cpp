@@ -9,6 +9,7 @@
 #include "gmc/datasets/source.h"
 #include "gmc/datasets/camera.h"
 #include "gmc/datasets/tum.h"
+#include "test_data.h"
 #include "tum_folder.h"
 
 namespace {
@@ -26,7 +27,7 @@ std::vector<RgbdFrame> twoFrames() {
 }
 
 std::string folderWithMasks(const std::string& name, int masks) {
-  const std::string dir = (std::filesystem::temp_directory_path() / ("gmc_label_masks_" + name)).string();
+  const std::string dir = (gmc::testdata::scratchRoot() / ("gmc_label_masks_" + name)).string();
   std::filesystem::remove_all(dir);
   gmc::testdata::writeTumFolder(dir, twoFrames());
   std::filesystem::create_directories(dir + "/masks");

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "gmc/mapping/export.h"
+#include "test_data.h"
 
 namespace {
 
@@ -28,7 +29,7 @@ octomap::OcTree wallMap() {
 }
 
 std::string scratch(const std::string& name) {
-  const auto dir = fs::temp_directory_path() / ("gmc_test_mapping_" + name);
+  const auto dir = gmc::testdata::scratchRoot() / ("gmc_test_mapping_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir.string();

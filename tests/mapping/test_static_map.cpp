@@ -6,6 +6,7 @@
 
 #include "gmc/mapping/static_map.h"
 #include "mapping_fixtures.h"
+#include "test_data.h"
 
 namespace {
 
@@ -235,7 +236,8 @@ TEST(StaticMap, WrittenMapReloads) {
   StaticMapBuilder b;
   cv::Mat mask;
   b.insertFrame(wall(false, &mask), mask, kIdentity);
-  const auto path = (std::filesystem::temp_directory_path() / "gmc_test_map.bt").string();
+  std::filesystem::create_directories(gmc::testdata::scratchRoot());
+  const auto path = (gmc::testdata::scratchRoot() / "gmc_test_map.bt").string();
   b.writeBinary(path);
   octomap::OcTree back(path);
   EXPECT_EQ(back.getNumLeafNodes(), b.tree().getNumLeafNodes());
