@@ -27,8 +27,7 @@ std::vector<RgbdFrame> twoFrames() {
 }
 
 std::string folderWithMasks(const std::string& name, int masks) {
-  const std::string dir = (gmc::testdata::scratchRoot() / ("gmc_label_masks_" + name)).string();
-  std::filesystem::remove_all(dir);
+  const std::string dir = gmc::testdata::scratchDir("label_masks_" + name);
   gmc::testdata::writeTumFolder(dir, twoFrames());
   std::filesystem::create_directories(dir + "/masks");
   for (int i = 0; i < masks; ++i) {

@@ -28,12 +28,7 @@ octomap::OcTree wallMap() {
   return tree;
 }
 
-std::string scratch(const std::string& name) {
-  const auto dir = gmc::testdata::scratchRoot() / ("gmc_test_mapping_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir.string();
-}
+std::string scratch(const std::string& name) { return gmc::testdata::scratchDir("mapping_" + name); }
 
 struct Vertex {
   float x, y, z;

@@ -236,8 +236,7 @@ TEST(StaticMap, WrittenMapReloads) {
   StaticMapBuilder b;
   cv::Mat mask;
   b.insertFrame(wall(false, &mask), mask, kIdentity);
-  std::filesystem::create_directories(gmc::testdata::scratchRoot());
-  const auto path = (gmc::testdata::scratchRoot() / "gmc_test_map.bt").string();
+  const auto path = gmc::testdata::scratchDir("static_map") + "/map.bt";
   b.writeBinary(path);
   octomap::OcTree back(path);
   EXPECT_EQ(back.getNumLeafNodes(), b.tree().getNumLeafNodes());
