@@ -82,6 +82,21 @@ TEST(Filters, GmcFilterTracksAndWritesDynamicPixelLabels) {
   EXPECT_THROW(applyChain(chain, *no_depth, ctx), std::runtime_error);
 }
 
+TEST(Filters, FinishingTheChainGivesTheGmcFiltersLastRevisions) {
+  auto chain = buildChain(mrpt::config::CConfigFileMemory("[Filters]\nchain = depth_range, gmc\n"), "t.ini");
+  auto obs = makeObs(1.0);
+  FilterContext ctx;
+  ASSERT_TRUE(applyChain(chain, *obs, ctx));
+  FilterContext end;
+  finishChain(chain, end);
+  ASSERT_NE(finalRevisionsOf(end), nullptr) << "the gmc filter set no final revisions";
+  EXPECT_TRUE(finalRevisionsOf(end)->empty());  // one frame: no run to fit
+  FilterContext none;
+  auto plain = buildChain(mrpt::config::CConfigFileMemory("[Filters]\nchain = depth_range\n"), "t.ini");
+  finishChain(plain, none);
+  EXPECT_EQ(finalRevisionsOf(none), nullptr);
+}
+
 /// Frames kept by a chain out of `n`.
 int keptOf(FilterChain& chain, int n) {
   int kept = 0;

@@ -938,3 +938,41 @@ TEST(OdometrySim, TheRoomsDepthInThePoseKeepsTheCrowdWithinCentimetres) {
   other_weight.depth_alignment.weight = 1.0;
   EXPECT_NE(worstError(options, other_weight, 30), worstError(options, dense, 30));
 }
+
+// The trajectory's smoothing gives a frame's pose smoothing_frames frames later; at the
+// input's end finish() gives the last ones, fitted over the run's last full window, so
+// no frame of a tracked input keeps its live pose in the trajectory.
+TEST(OdometrySim, TheInputsLastFramesAreSmoothedWhenItEnds) {
+  auto o = gmc::sim::SimOptions::exact();
+  o.people.walkers = 0;
+  o.trajectory.style = "xyz";
+  const gmc::sim::Simulator sim(o);
+  gmc::vo::OdometryConfig config;
+  ASSERT_TRUE(config.odometry.smoothing_edges);
+  const int k = config.odometry.smoothing_frames, frames = 30;
+  ASSERT_GT(k, 0);
+  gmc::vo::RgbdOdometry vo(config);
+  std::vector<long> numbers;
+  std::vector<gmc::Isometry> live;
+  std::set<long> revised;
+  for (int i = 0; i < frames; ++i) {
+    const auto t = trackSimFrame(sim, vo, i).tracking;
+    ASSERT_NE(t.state, gmc::vo::TrackingState::Lost) << "frame " << i;
+    numbers.push_back(t.frame_number);
+    live.push_back(t.T_world_camera);
+    for (const auto& r : t.revised) revised.insert(r.frame_number);
+  }
+  // Before the end every tracked frame but the last k was revised (the first ones from
+  // the run's first window), and none of the last k; frame 0 initialises the map.
+  for (int i = 1; i < frames; ++i)
+    EXPECT_EQ(revised.count(numbers[static_cast<size_t>(i)]), i < frames - k ? 1u : 0u) << "frame " << i;
+  const auto last = vo.finish();
+  ASSERT_EQ(last.size(), static_cast<size_t>(k));
+  for (int j = 0; j < k; ++j) {
+    const size_t i = static_cast<size_t>(frames - k + j);
+    EXPECT_EQ(last[static_cast<size_t>(j)].frame_number, numbers[i]);
+    // A fit over tracked poses that move millimetres a frame stays near them.
+    EXPECT_LT((last[static_cast<size_t>(j)].T_world_camera.translation() - live[i].translation()).norm(), 0.01);
+  }
+  EXPECT_TRUE(vo.finish().empty()) << "a second end gives nothing more";
+}

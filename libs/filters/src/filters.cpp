@@ -172,6 +172,10 @@ bool applyChain(FilterChain& chain, mrpt::obs::CObservation3DRangeScan& obs,
   return true;
 }
 
+void finishChain(FilterChain& chain, FilterContext& context) {
+  for (auto& f : chain) f->finish(context);
+}
+
 // ---------------------------------------------------------------- gmc
 std::vector<std::string> GmcFilter::sections(const std::string& section) const {
   return {section,      "Frontend",  "GMS",       "GMC",    "Odometry",
@@ -276,6 +280,10 @@ bool GmcFilter::filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& c
     }
   }
   return true;
+}
+
+void GmcFilter::finish(FilterContext& context) {
+  context.products[kFinalRevisions] = odometry_->finish();
 }
 
 // ---------------------------------------------------------------- depth_range

@@ -444,6 +444,12 @@ void RgbdOdometry::smoothTrajectory(FrameTracking& out) {
   }
 }
 
+std::vector<RevisedPose> RgbdOdometry::finish() {
+  std::vector<RevisedPose> last = smoother_.endRun();
+  for (const RevisedPose& revision : last) records_.revise(revision);
+  return last;
+}
+
 void RgbdOdometry::reviseInHindsight(features::FeatureSet&& cur, const PinholeCamera& camera, FrameTracking& out) {
   // A frame that moved the world frame (a new map, a start consensus, a rejoin) ends what
   // can be compared with today's landmarks.

@@ -134,6 +134,8 @@ class MappingRun {
 
  private:
   void track(const SourceFrame& f);
+  void reviseTrajectory(const std::vector<vo::RevisedPose>& revised);
+  void finishChain();
   Isometry anchor(const SourceFrame& f, const Isometry& T_odometry_camera);
   void finishStages();
 
@@ -207,6 +209,7 @@ void MappingRun::play() {
     if (!f) break;
     track(*f);
   }
+  finishChain();
   finishStages();
 }
 
@@ -226,14 +229,8 @@ void MappingRun::track(const SourceFrame& f) {
   const vo::FrameTracking& tracking = *filters::trackingOf(ctx);  // the chain was checked to set it
   const Isometry T_world_camera = anchor(f, tracking.T_world_camera);
   trajectory_.push_back({f.frame.stamp, T_world_camera});
-  // Poses revised later (lost frames bridged, a rejoined map's frames): the trajectory
-  // keeps the revised ones. Frame numbers increase, so they are found by bisection.
   trajectory_frames_.push_back(tracking.frame_number);
-  for (const auto& r : tracking.revised) {
-    const auto it = std::lower_bound(trajectory_frames_.begin(), trajectory_frames_.end(), r.frame_number);
-    if (it != trajectory_frames_.end() && *it == r.frame_number)
-      trajectory_[static_cast<size_t>(it - trajectory_frames_.begin())].pose = *T_anchor_ * r.T_world_camera;
-  }
+  reviseTrajectory(tracking.revised);
   // The map thread gets its own mask: the chain may reuse its buffer for the next frame.
   if (map_stage_ && tracking.tracked())
     map_stage_->submit({f.frame, ctx.dynamic_mask.clone(), T_world_camera, tracking.new_keyframe});
@@ -249,6 +246,25 @@ void MappingRun::track(const SourceFrame& f) {
               << "\n";
   const FrameEvent event{f, tracking, ctx.dynamic_mask, report_, lag};
   for (auto& o : observers_) o->onFrame(event);
+}
+
+/// Poses revised later (lost frames bridged, a rejoined map's frames, smoothed ones): the
+/// trajectory keeps the revised ones. Frame numbers increase, so they are found by bisection.
+void MappingRun::reviseTrajectory(const std::vector<vo::RevisedPose>& revised) {
+  for (const auto& r : revised) {
+    const auto it = std::lower_bound(trajectory_frames_.begin(), trajectory_frames_.end(), r.frame_number);
+    if (it != trajectory_frames_.end() && *it == r.frame_number)
+      trajectory_[static_cast<size_t>(it - trajectory_frames_.begin())].pose = *T_anchor_ * r.T_world_camera;
+  }
+}
+
+/// The input has ended (or was stopped): the revisions the chain held back, e.g. the
+/// last frames' smoothed poses.
+void MappingRun::finishChain() {
+  filters::FilterContext ctx;
+  filters::finishChain(chain_, ctx);
+  const auto* revised = filters::finalRevisionsOf(ctx);
+  if (revised && T_anchor_) reviseTrajectory(*revised);
 }
 
 /// [Dataset] anchor_to_groundtruth: the first frame's odometry pose is put on its

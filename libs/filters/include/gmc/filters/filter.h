@@ -57,6 +57,9 @@ class ObservationFilter {
   virtual void save(mrpt::config::CConfigFileBase& /*out*/, const std::string& /*section*/) const {}
   /// Returns false to drop the observation.
   virtual bool filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& context) = 0;
+  /// The input has ended: a filter that holds results back gives them as products of
+  /// `context` (the gmc filter: kFinalRevisions). Most filters hold nothing.
+  virtual void finish(FilterContext& /*context*/) {}
 };
 
 using FilterChain = std::vector<std::unique_ptr<ObservationFilter>>;
@@ -106,9 +109,15 @@ void saveFilterSettings(const mrpt::config::CConfigFileBase& ini, const std::str
 /// Applies the chain in order; false as soon as a filter drops the observation.
 bool applyChain(FilterChain& chain, mrpt::obs::CObservation3DRangeScan& obs, FilterContext& context);
 
+/// Ends the input for every filter of the chain, in order (after the last applyChain).
+void finishChain(FilterChain& chain, FilterContext& context);
+
 /// Name of the pixel label the gmc filter writes into CObservation3DRangeScan::pixelLabels.
 inline constexpr const char* kDynamicLabel = "dynamic";
 /// Context product of the gmc filter: the frame's vo::FrameTracking.
 inline constexpr const char* kTracking = "tracking";
+/// Product of the gmc filter's finish(): the trajectory's revisions it held back at the
+/// input's end (a std::vector<vo::RevisedPose>: the last frames' smoothed poses).
+inline constexpr const char* kFinalRevisions = "final_revisions";
 
 }  // namespace gmc::filters

@@ -41,6 +41,8 @@ class GmcFilter : public ObservationFilter {
   /// kTracking (a vo::FrameTracking) and the dynamic mask.
   std::vector<std::string> provides() const override { return {kTracking}; }
   bool filter(mrpt::obs::CObservation3DRangeScan& obs, FilterContext& context) override;
+  /// kFinalRevisions: the odometry's revisions held back at the input's end.
+  void finish(FilterContext& context) override;
 
   const vo::OdometryConfig& odometryConfig() const { return odometry_config_; }
 
@@ -56,6 +58,11 @@ class GmcFilter : public ObservationFilter {
 /// The gmc filter's result for this frame, or nullptr when no gmc filter ran.
 inline vo::FrameTracking* trackingOf(FilterContext& context) {
   return context.product<vo::FrameTracking>(kTracking);
+}
+
+/// The gmc filter's revisions at the input's end (finishChain), or nullptr.
+inline std::vector<vo::RevisedPose>* finalRevisionsOf(FilterContext& context) {
+  return context.product<std::vector<vo::RevisedPose>>(kFinalRevisions);
 }
 
 /// INI section [DepthRange]: readings outside [min_depth, max_depth] become "no reading".

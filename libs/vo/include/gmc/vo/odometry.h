@@ -49,7 +49,7 @@ struct OdometryOptions {
   int random_seed = 0;                  ///< 0: the built-in RANSAC sampling streams; another
                                         ///< value: other, equally valid streams (how much a
                                         ///< figure owes to chance: doc/odometry.md)
-  int smoothing_frames = 4;             ///< the trajectory's poses: a quadratic fit over this
+  int smoothing_frames = 6;             ///< the trajectory's poses: a quadratic fit over this
                                         ///< many tracked frames on each side, given out as
                                         ///< revisions that many frames later (0 = live poses)
   double smoothing_break = 0.1;         ///< m (and rad): a step that differs from the one
@@ -254,6 +254,12 @@ class RgbdOdometry {
   /// on and the frame was such a keyframe), and the dense depth term's reference, when it
   /// is this frame, leaves it out ([DepthAlignment]).
   void distrustMaskedLandmarks(const cv::Mat& mask);
+
+  /// The input has ended: the trajectory's revisions still held back, i.e. the last run's
+  /// last smoothing_frames frames fitted over its last full window (with smoothing_edges;
+  /// FrameTracking::revised for frames that follow none). The live poses stand. Call once,
+  /// after the last process().
+  std::vector<RevisedPose> finish();
 
  private:
   /// The frame's matches against the landmarks visible from the predicted pose.
