@@ -177,6 +177,19 @@ class StreamMoves(unittest.TestCase):
         self.assertEqual(set_eval.stream_moves(base, new, 0.03), [('a', 0, 0.010, 0.0104), ('a', 2, 0.040, 0.030)])
 
 
+class ScenarioTable(unittest.TestCase):
+    def test_generated_runs_are_grouped_by_scenario_over_sets_and_real_runs_left_out(self):
+        runs = {'choice': {'crowd 1': {'ate': 0.01, 'ate_per_seed': [0.01, 0.02], 'still': 0.2},
+                           'teddy +3': {'ate': 0.003, 'still': 0.1},
+                           'crowd_hover 2': {'ate': 0.03, 'still': 0.08}},
+                'held': {'crowd 11': {'ate': 0.06, 'ate_per_seed': [0.06, 0.05], 'still': 0.2}},
+                'bonn': {'240_389 window +10': {'ate': 0.03, 'still': 0.05}}}
+        t = set_eval.scenario_table(runs)
+        self.assertEqual(sorted(t), ['crowd', 'crowd_hover'])
+        self.assertEqual(t['crowd'], [(1, 0.01, [0.01, 0.02], 0.2), (11, 0.06, [0.06, 0.05], 0.2)])
+        self.assertEqual(t['crowd_hover'], [(2, 0.03, [0.03], 0.08)])
+
+
 def bonn_runs():
     """Two streams of one folder: stream 1's window +10 ends above its standing still."""
     def r(ates, still):

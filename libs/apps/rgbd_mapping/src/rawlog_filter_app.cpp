@@ -63,6 +63,10 @@ int RawlogFilterApp::run() {
       ++dropped;
     }
   }
+  for (auto& camera_chain : chains) {  // the input has ended for every camera's chain
+    filters::FilterContext end;
+    filters::finishChain(camera_chain.second, end);
+  }
   writer.close();
   std::printf("%s: %zu objects written; %zu RGB-D observations filtered, %zu dropped by the "
               "chain, %zu unreadable not filtered\n",
