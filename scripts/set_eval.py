@@ -371,8 +371,8 @@ def scenario_table(runs):
     for set_name, set_runs in runs.items():
         for name, r in set_runs.items():
             scenario, _, seed = name.rpartition(' ')
-            if not scenario or not seed.isdigit():
-                continue  # a real run ('teddy +3', '240_389 window +10')
+            if not scenario or ' ' in scenario or not seed.isdigit():
+                continue  # a real run ('teddy +3', '240_389 window +10', '301_460 start 3')
             table.setdefault(scenario, []).append((int(seed), r['ate'], r.get('ate_per_seed') or [r['ate']], r['still']))
     return {scenario: sorted(rows) for scenario, rows in table.items()}
 

@@ -183,7 +183,8 @@ class ScenarioTable(unittest.TestCase):
                            'teddy +3': {'ate': 0.003, 'still': 0.1},
                            'crowd_hover 2': {'ate': 0.03, 'still': 0.08}},
                 'held': {'crowd 11': {'ate': 0.06, 'ate_per_seed': [0.06, 0.05], 'still': 0.2}},
-                'bonn': {'240_389 window +10': {'ate': 0.03, 'still': 0.05}}}
+                'bonn': {'240_389 window +10': {'ate': 0.03, 'still': 0.05},
+                         '301_460 start 3': {'ate': 0.02, 'still': 0.05}}}
         t = set_eval.scenario_table(runs)
         self.assertEqual(sorted(t), ['crowd', 'crowd_hover'])
         self.assertEqual(t['crowd'], [(1, 0.01, [0.01, 0.02], 0.2), (11, 0.06, [0.06, 0.05], 0.2)])
