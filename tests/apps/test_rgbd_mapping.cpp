@@ -5,6 +5,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -156,6 +158,43 @@ TEST(RgbdMappingApp, TrackingLogHasEveryFramesStatePoseAndLostReason) {
     EXPECT_LE(refound, to_refind) << i;
     EXPECT_EQ(to_refind > 0, i >= 2 && i != 6) << i << ": " << to_refind;
   }
+}
+
+// The trajectory's smoothing gives a pose smoothing_frames frames later; at the input's
+// end the app finishes the filter chain and writes the last frames' fits too (they
+// differ from the live poses tracking.csv keeps), not their live poses.
+TEST(RgbdMappingApp, TheLastFramesOfTheTrajectoryAreSmoothedAtTheInputsEnd) {
+  const auto root = gmc::testdata::scratchDir("mapping_last_frames");
+  const auto seq = gmc::testdata::makeWallSequence(root + "/seq", 20);
+  // Largest |trajectory - live| in x over the last k frames, and over the frames before.
+  const auto lastAndEarlierShift = [&](const std::string& out, int k) {
+    const auto est = gmc::datasets::readTumTrajectory(out + "/trajectory_tum.txt");
+    std::string header;
+    const auto rows = readCsv(out + "/tracking.csv", header);
+    EXPECT_EQ(est.size(), rows.size());
+    std::pair<double, double> shift{0, 0};
+    for (size_t i = 1; i < std::min(est.size(), rows.size()); ++i) {
+      const double d = std::abs(std::stod(rows[i][22]) - est[i].pose.translation().x());
+      double& worst = i + static_cast<size_t>(k) >= rows.size() ? shift.first : shift.second;
+      worst = std::max(worst, d);
+    }
+    return shift;
+  };
+  const auto out = root + "/out";
+  ASSERT_EQ(runMapping({GMC_SOURCE_DIR "/config/default.ini", seq, "--out", out, "--set", "Output.tracking_log=true",
+                        "--set", "Output.map=false"}),
+            0);
+  const auto [last, earlier] = lastAndEarlierShift(out, 6);
+  std::printf("  smoothed: the last 6 frames moved by up to %.2e m, the earlier ones by up to %.2e m\n", last, earlier);
+  EXPECT_GT(last, 2e-6) << "the last frames kept their live pose";
+  EXPECT_GT(earlier, 2e-6);
+  EXPECT_LT(last, 0.01);
+  const auto live = root + "/live";
+  ASSERT_EQ(runMapping({GMC_SOURCE_DIR "/config/default.ini", seq, "--out", live, "--set", "Output.tracking_log=true",
+                        "--set", "Output.map=false", "--set", "Odometry.smoothing_frames=0"}),
+            0);
+  const auto [last_live, earlier_live] = lastAndEarlierShift(live, 6);
+  EXPECT_LT(std::max(last_live, earlier_live), 2e-6) << "without smoothing the trajectory is the live poses";
 }
 
 // map_matches.csv: one row per map match, with the observation that placed its
