@@ -47,6 +47,25 @@ TEST(EvalApp, BadArgumentsAndFilesFail) {
   EXPECT_FALSE(std::filesystem::exists(out + "/x.json"));
 }
 
+// A camera that only slides has no rotation gain to measure: the line says so instead
+// of printing nan (the JSON has null).
+TEST(EvalApp, RotationGainOfAPathThatDoesNotTurnIsNotANumberButSaidSo) {
+  const auto out = gmc::testdata::scratchDir("eval_app_no_turn");
+  {
+    std::ofstream gt(out + "/gt.txt"), est(out + "/est.txt");
+    for (int i = 0; i < 90; ++i) {
+      gt << 1.0 + i / 30.0 << " " << 0.01 * i << " 0 0 0 0 0 1\n";
+      est << 1.0 + i / 30.0 << " " << 0.0101 * i << " 0 0 0 0 0 1\n";
+    }
+  }
+  testing::internal::CaptureStdout();
+  EXPECT_EQ(runEval({"--gt", out + "/gt.txt", "--est", out + "/est.txt", "--json", out + "/e.json"}), 0);
+  const std::string printed = testing::internal::GetCapturedStdout();
+  EXPECT_NE(printed.find("rotation gain n/a (the ground truth does not turn over 1 s)"), std::string::npos) << printed;
+  EXPECT_EQ(printed.find("nan"), std::string::npos) << printed;
+  EXPECT_NE(slurp(out + "/e.json").find("\"rotation_gain\": null"), std::string::npos) << slurp(out + "/e.json");
+}
+
 // The Bonn window's ground truth converted to the camera frame: an estimate equal to the
 // converted poses scores zero with --gt-frame bonn and not without it.
 TEST(EvalApp, BonnGroundTruthFrame) {

@@ -1,5 +1,6 @@
 #include "gmc/apps/eval_app.h"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -48,8 +49,11 @@ int EvalApp::run() {
               rpe.translation.rmse, rpe.translation.median, rpe.rotation.rmse, rpe.rotation.median,
               rpe.pairs);
   // Diagnostics, not benchmark figures (doc/evaluation.md).
-  std::printf("diag  ATE with scale %.6f m (scale %.4f)  |  rotation gain %.4f\n", ate.scaled_error.rmse, ate.scale,
-              rpe.rotation_gain);
+  std::printf("diag  ATE with scale %.6f m (scale %.4f)  |  ", ate.scaled_error.rmse, ate.scale);
+  if (std::isnan(rpe.rotation_gain))
+    std::printf("rotation gain n/a (the ground truth does not turn over %.0f s)\n", rpe.delta_s);
+  else
+    std::printf("rotation gain %.4f\n", rpe.rotation_gain);
   if (!gt_out_.empty()) datasets::writeTumTrajectory(gt_out_, gt);
   if (!json_.empty()) datasets::writeTextAtomic(json_, datasets::evaluationJson(ate, rpe));
   if (!plot_.empty())
