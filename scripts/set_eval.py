@@ -365,15 +365,15 @@ def spread(args):
 
 
 def scenario_table(runs):
-    """Per generated scenario (run names 'scenario seed') over every set: [(seed, run figure,
-    its streams, standing still)] in seed order."""
+    """Per generated scenario over every set: [(seed, run figure, its streams, standing
+    still)] in seed order. The sets' own lists say which runs are generated (named as
+    runs_of names them); real runs are left out."""
     table = {}
     for set_name, set_runs in runs.items():
-        for name, r in set_runs.items():
-            scenario, _, seed = name.rpartition(' ')
-            if not scenario or ' ' in scenario or not seed.isdigit():
-                continue  # a real run ('teddy +3', '240_389 window +10', '301_460 start 3')
-            table.setdefault(scenario, []).append((int(seed), r['ate'], r.get('ate_per_seed') or [r['ate']], r['still']))
+        for scenario, seed in SETS.get(set_name, {}).get('generated', []):
+            r = set_runs.get('%s %d' % (scenario, seed))
+            if r:
+                table.setdefault(scenario, []).append((seed, r['ate'], r.get('ate_per_seed') or [r['ate']], r['still']))
     return {scenario: sorted(rows) for scenario, rows in table.items()}
 
 
