@@ -201,3 +201,67 @@ TEST(MapRejoin, TriesTheWaitingMapsInTurnAndFindsTheOneInView) {
 }
 
 }  // namespace
+
+namespace {
+
+/// A map of `landmarks` (current world frame), every one with static evidence at
+/// stamp 2, or every one seen moving (suspect until stamp 3).
+gmc::vo::LandmarkMap currentMap(std::vector<Landmark> landmarks, bool seen_moving) {
+  for (auto& l : landmarks) {
+    l.evidence_since = 0;
+    l.last_seen_in_place = 2.0;
+    if (seen_moving) l.suspect_until = 3.0;
+  }
+  gmc::vo::LandmarkMap map;
+  map.adopt(landmarks);
+  return map;
+}
+
+}  // namespace
+
+// A young map (walkers led it; what it froze is too little to agree) is kept for its
+// first keyframe: that keyframe's features, matched against the current map's
+// landmarks not seen moving, pose it in the current map and give the correction (its
+// world <- the current one), once two attempts agree. Landmarks seen moving do not
+// count; without young_map_anchor such a map is not kept at all.
+TEST(MapRejoin, AYoungMapIsFoundByItsFirstKeyframeOnTheCurrentMapsRoom) {
+  std::mt19937 rng(13);
+  const auto old_room = room(300, rng);
+  const Isometry T_new_old = pose(-10, {0.25, 0.0, 0.1});  // the re-anchor's guess, off
+  auto new_room = old_room;
+  for (auto& l : new_room) l.position = T_new_old * l.position;
+  const Isometry T_old_anchor = pose(2, {0.03, 0, -0.05});
+  gmc::vo::MapAnchor anchor{frame(old_room, T_old_anchor, 150, 60, rng), T_old_anchor};
+  const auto walkers = room(5, rng);  // all the young map froze
+  const gmc::features::Frontend frontend;
+  // Today's frame sees nothing of what the young map froze.
+  std::vector<Landmark> none;
+  const auto today = frame(none, Isometry::Identity(), 200, 0, rng);
+
+  MapRejoin rejoin(RejoinOptions{}, gmc::vo::RefinementOptions{}, gmc::vo::InPlaceThreshold{});
+  ASSERT_TRUE(rejoin.freeze(0, walkers, 1.0, anchor));
+  const auto moving_map = currentMap(new_room, true);
+  RejoinAttempt untrusted;
+  EXPECT_FALSE(rejoin.attempt(frontend, today, Isometry::Identity(), kCamera, &untrusted, -1, &moving_map, 2.0));
+  EXPECT_FALSE(rejoin.attempt(frontend, today, Isometry::Identity(), kCamera, &untrusted, -1, &moving_map, 2.0));
+  EXPECT_EQ(untrusted.matches, 0);
+
+  const auto held_map = currentMap(new_room, false);
+  RejoinAttempt first, second;
+  EXPECT_FALSE(rejoin.attempt(frontend, today, Isometry::Identity(), kCamera, &first, -1, &held_map, 2.0));
+  EXPECT_TRUE(first.by_anchor);
+  EXPECT_GT(first.inliers, 100);
+  const auto found = rejoin.attempt(frontend, today, Isometry::Identity(), kCamera, &second, -1, &held_map, 2.0);
+  ASSERT_TRUE(found.has_value());
+  EXPECT_TRUE(second.confirmed);
+  EXPECT_EQ(found->map, 0);
+  const Isometry error = found->T_map_current * T_new_old;  // identity when the correction is T_old_new
+  EXPECT_LT(error.translation().norm(), 1e-3);
+  EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle(), 1e-3);
+
+  RejoinOptions off;
+  off.young_map_anchor = false;
+  MapRejoin without(off, gmc::vo::RefinementOptions{}, gmc::vo::InPlaceThreshold{});
+  EXPECT_FALSE(without.freeze(0, walkers, 1.0, anchor));
+  EXPECT_FALSE(without.active());
+}

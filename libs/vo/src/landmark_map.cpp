@@ -77,6 +77,12 @@ void LandmarkMap::view(const Isometry& T_world_camera, const PinholeCamera& came
                 landmarks_[static_cast<size_t>(out.ids[k])].descriptor.data(), 32);
 }
 
+size_t LandmarkMap::numStatic(double stamp) const {
+  size_t n = 0;
+  for (size_t i = 0; i < landmarks_.size(); ++i) n += evidence(static_cast<int>(i), stamp) == Evidence::Static ? 1 : 0;
+  return n;
+}
+
 std::vector<Landmark> LandmarkMap::landmarksNotSeenMoving(double stamp) const {
   std::vector<Landmark> out;
   for (size_t i = 0; i < landmarks_.size(); ++i)

@@ -1,7 +1,5 @@
 #include "gmc/vo/map_rejoin.h"
 
-#include "gmc/vo/point_correspondences.h"
-
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -13,8 +11,27 @@ bool MapRejoin::waiting(int map) const {
   return std::any_of(waiting_.begin(), waiting_.end(), [&](const WaitingMap& w) { return w.id == map; });
 }
 
-bool MapRejoin::freeze(int map, std::vector<Landmark> landmarks, double stamp) {
-  if (!options_.enabled || landmarks.size() < static_cast<size_t>(options_.min_inliers)) return false;
+namespace {
+
+/// Descriptors of `landmarks` as a reference FeatureSet for exhaustive matching.
+features::FeatureSet descriptorSet(const std::vector<const Landmark*>& landmarks) {
+  features::FeatureSet set;
+  set.descriptors.create(static_cast<int>(landmarks.size()), 32, CV_8UC1);
+  for (size_t i = 0; i < landmarks.size(); ++i) {
+    std::memcpy(set.descriptors.ptr<std::uint8_t>(static_cast<int>(i)), landmarks[i]->descriptor.data(), 32);
+    set.keypoints.emplace_back(0.f, 0.f, 7.f);
+    // Exhaustive matching skips reference features without depth; every landmark has a
+    // position, so each gets a placeholder in front of the camera.
+    set.points.emplace_back(0, 0, 1);
+  }
+  return set;
+}
+
+}  // namespace
+
+bool MapRejoin::freeze(int map, std::vector<Landmark> landmarks, double stamp, std::optional<MapAnchor> anchor) {
+  if (!options_.young_map_anchor) anchor.reset();
+  if (!options_.enabled || (landmarks.size() < static_cast<size_t>(options_.min_inliers) && !anchor)) return false;
   // Full: the oldest map is the frame the trajectory started in; the newest are the
   // likeliest to be seen again. One of each stays when there is room for two.
   if (static_cast<int>(waiting_.size()) >= options_.max_maps) {
@@ -29,15 +46,11 @@ bool MapRejoin::freeze(int map, std::vector<Landmark> landmarks, double stamp) {
   WaitingMap w;
   w.id = map;
   w.frozen = std::move(landmarks);
-  w.frozen_set.descriptors.create(static_cast<int>(w.frozen.size()), 32, CV_8UC1);
-  for (size_t i = 0; i < w.frozen.size(); ++i) {
-    std::memcpy(w.frozen_set.descriptors.ptr<std::uint8_t>(static_cast<int>(i)), w.frozen[i].descriptor.data(), 32);
-    w.frozen_set.keypoints.emplace_back(0.f, 0.f, 7.f);
-    // Exhaustive matching skips reference features without depth; every frozen landmark
-    // has a position (in frozen), so each gets a placeholder in front of the camera.
-    w.frozen_set.points.emplace_back(0, 0, 1);
-  }
+  std::vector<const Landmark*> frozen;
+  for (const auto& l : w.frozen) frozen.push_back(&l);
+  w.frozen_set = descriptorSet(frozen);
   w.frozen_at = stamp;
+  w.anchor = std::move(anchor);
   if (waiting_.empty()) tracked_frames_ = 0;
   waiting_.push_back(std::move(w));
   return true;
@@ -70,7 +83,8 @@ std::vector<int> MapRejoin::giveUpExpired(double stamp) {
 
 std::optional<RejoinFound> MapRejoin::attempt(const features::Frontend& frontend, const features::FeatureSet& cur,
                                               const Isometry& T_world_cur, const PinholeCamera& camera,
-                                              RejoinAttempt* report, int only) {
+                                              RejoinAttempt* report, int only, const LandmarkMap* current,
+                                              double stamp) {
   RejoinAttempt local;
   RejoinAttempt& r = report ? *report : local;
   r = RejoinAttempt{};
@@ -84,7 +98,15 @@ std::optional<RejoinFound> MapRejoin::attempt(const features::Frontend& frontend
   }
   WaitingMap& map = *chosen;
   r.map = map.id;
-  const std::optional<Isometry> found = correction(frontend, map, cur, T_world_cur, camera, r);
+  std::optional<Isometry> found = correction(frontend, map, cur, T_world_cur, camera, r);
+  if (map.anchor && current) {
+    RejoinAttempt by_anchor = r;
+    const std::optional<Isometry> anchored = anchorCorrection(frontend, *map.anchor, *current, stamp, camera, by_anchor);
+    if (anchored && (!found || by_anchor.inliers > r.inliers)) {
+      found = anchored;
+      r = by_anchor;
+    }
+  }
   if (!found) {
     map.candidate.reset();
     return std::nullopt;
@@ -110,17 +132,47 @@ std::optional<Isometry> MapRejoin::correction(const features::Frontend& frontend
   for (const auto& m : frontend.matchExhaustive(map.frozen_set, cur))
     if (cur.hasDepth(m.cur)) c.add(map.frozen[static_cast<size_t>(m.ref)].position, cur, m.cur);
   r.matches = c.size();
-  if (r.matches < options_.min_inliers) return std::nullopt;
-  // The pose in the old map, refined on the inliers' pixels and depths as any tracked pose.
+  const std::optional<Isometry> T_cur_old = fitCorrection(c, camera, r);
+  if (!T_cur_old) return std::nullopt;
+  return T_cur_old->inverse() * T_world_cur.inverse();
+}
+
+std::optional<Isometry> MapRejoin::anchorCorrection(const features::Frontend& frontend, const MapAnchor& anchor,
+                                                    const LandmarkMap& current, double stamp,
+                                                    const PinholeCamera& camera, RejoinAttempt& r) {
+  r.by_anchor = true;
+  // The current map's landmarks not seen moving (as the map left froze its own), the most
+  // often re-observed first. Those with static evidence alone were measured too: they
+  // find crowd 16's anchor 100-150 frames later and nothing more (fifty-fourth round).
+  std::vector<const Landmark*> room;
+  for (size_t id = 0; id < current.size(); ++id)
+    if (current.evidence(static_cast<int>(id), stamp) != Evidence::Suspect) room.push_back(&current[static_cast<int>(id)]);
+  r.matches = 0;
+  if (room.size() < static_cast<size_t>(options_.min_inliers)) return std::nullopt;
+  std::stable_sort(room.begin(), room.end(),
+                   [](const Landmark* a, const Landmark* b) { return a->hits_in_place > b->hits_in_place; });
+  if (room.size() > static_cast<size_t>(options_.max_landmarks)) room.resize(static_cast<size_t>(options_.max_landmarks));
+  // 3-D correspondences: landmark (current world) <- anchor keypoint (its camera frame).
+  PointCorrespondences c;
+  for (const auto& m : frontend.matchExhaustive(descriptorSet(room), anchor.features))
+    if (anchor.features.hasDepth(m.cur)) c.add(room[static_cast<size_t>(m.ref)]->position, anchor.features, m.cur);
+  r.matches = c.size();
+  const std::optional<Isometry> T_anchor_current = fitCorrection(c, camera, r);
+  if (!T_anchor_current) return std::nullopt;
+  return anchor.T_world_camera * *T_anchor_current;
+}
+
+std::optional<Isometry> MapRejoin::fitCorrection(const PointCorrespondences& c, const PinholeCamera& camera,
+                                                 RejoinAttempt& r) {
+  if (c.size() < options_.min_inliers) return std::nullopt;
+  // The pose, refined on the inliers' pixels and depths as any tracked pose.
   const CorrespondenceFit fit = fitCorrespondences(c, c.all(), Isometry::Identity(), options_.ransac_iterations, rng_,
                                                    threshold_, camera, refinement_);
   r.inliers = static_cast<int>(fit.members.size());
   if (r.inliers < options_.min_inliers) return std::nullopt;
-  const RefinementResult& refined = fit.refined;
-  r.inliers = refined.inliers;
-  if (refined.inliers < options_.min_inliers) return std::nullopt;
-  const Isometry T_old_cur = refined.T_cur_ref.inverse();
-  return T_old_cur * T_world_cur.inverse();
+  r.inliers = fit.refined.inliers;
+  if (fit.refined.inliers < options_.min_inliers) return std::nullopt;
+  return fit.refined.T_cur_ref;
 }
 
 }  // namespace gmc::vo

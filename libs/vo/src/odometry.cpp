@@ -274,7 +274,7 @@ void RgbdOdometry::initialize(features::FeatureSet&& cur, const PinholeCamera& c
   track_.matched.assign(cur.size(), 0);
   keyframe_policy_.reset(Isometry::Identity());
   addKeyframe(cur, camera, stamp, out);
-  startConsensus(stamp);
+  startConsensus(cur, stamp);
   hindsight_.reset();
   hindsight_.add({frame_number_, stamp, cur, Isometry::Identity(), {}, false}, map_, Isometry::Identity(), camera,
                  frontend_, config_.frontend.max_depth);
@@ -303,12 +303,14 @@ void RgbdOdometry::bridge(const std::vector<std::pair<long, double>>& lost, cons
   for (size_t k = first; k < out.revised.size(); ++k) records_.revise(out.revised[k]);
 }
 
-void RgbdOdometry::startConsensus(double stamp) {
+void RgbdOdometry::startConsensus(const features::FeatureSet& cur, double stamp) {
   std::vector<std::pair<int, Eigen::Vector3d>> anchors;
   for (size_t id = 0; id < map_.size(); ++id)
     if (map_[static_cast<int>(id)].alive) anchors.emplace_back(static_cast<int>(id), map_[static_cast<int>(id)].position);
   consensus_.start(anchors);
   consensus_start_ = {frame_number_, stamp, window_keyframes_.back().T_world_kf};
+  if (config_.rejoin.young_map_anchor) map_anchor_features_ = cur;
+  map_frames_.clear();
   start_frames_.clear();
   map_first_keyframe_ = keyframe_count_ - 1;
 }
@@ -411,6 +413,7 @@ void RgbdOdometry::bridgeLostFrames(FrameTracking& out) {
   // map again, the camera went from the last tracked pose to this one (revisions are in
   // order: a later one for the same frame supersedes an earlier one).
   const RevisedPose current{frame_number_, out.stamp, out.T_world_camera};
+  if (frame_number_ != consensus_start_.frame_number) map_frames_.push_back({frame_number_, out.stamp});
   // Frames are kept only while some map may still be rejoined.
   if (!rejoin_.active()) records_.clear();
   if (out.state == TrackingState::Lost) {
@@ -781,7 +784,7 @@ void RgbdOdometry::updateMap(const features::FeatureSet& cur, const PinholeCamer
   }
   out.new_keyframe = true;
   addKeyframe(cur, camera, stamp, out);
-  if (map_restarted_) startConsensus(stamp);
+  if (map_restarted_) startConsensus(cur, stamp);
 }
 
 void RgbdOdometry::startNewMap(const features::FeatureSet& cur, double stamp) {
@@ -792,9 +795,21 @@ void RgbdOdometry::startNewMap(const features::FeatureSet& cur, double stamp) {
   map_restarted_ = true;
   const int left = map_id_;
   ++map_id_;
-  rejoin_.freeze(left, map_.landmarksNotSeenMoving(stamp), stamp);
+  // A map that never held the room (too few landmarks with static evidence) followed one
+  // frame's clusters after its first keyframe: that keyframe is what can be found again,
+  // and every frame after it is as uncertain as a lost one.
+  const bool young = config_.rejoin.young_map_anchor &&
+                     map_.numStatic(stamp) < static_cast<size_t>(config_.background.min_static_landmarks);
+  std::optional<MapAnchor> anchor;
+  if (young) anchor = MapAnchor{map_anchor_features_, consensus_start_.T_world_camera};
+  rejoin_.freeze(left, map_.landmarksNotSeenMoving(stamp), stamp, std::move(anchor));
   // The frames from here on are kept while a map left may be found again.
-  if (rejoin_.active()) records_.reanchor(left, last_tracked_, map_id_, lost_frames_);
+  if (rejoin_.active()) {
+    if (young)
+      records_.reanchor(left, consensus_start_, map_id_, map_frames_);
+    else
+      records_.reanchor(left, last_tracked_, map_id_, lost_frames_);
+  }
   map_start_stamp_ = stamp;
   map_.clear();
   free_space_.clear();  // the views' poses and the new map's are not known relative to each other
@@ -822,7 +837,7 @@ void RgbdOdometry::tryRejoin(const features::FeatureSet& cur, const PinholeCamer
   for (int map : rejoin_.waitingMaps())
     if (records_.frameOf(map) < records_.frameOf(only < 0 ? map_id_ : only)) only = map;
   const std::optional<RejoinFound> found =
-      rejoin_.attempt(frontend_, cur, out.T_world_camera, camera, nullptr, only);
+      rejoin_.attempt(frontend_, cur, out.T_world_camera, camera, nullptr, only, &map_, stamp);
   out.times.frontend += msSince(t0);
   if (!found) return;
   // The younger of the two frames moves into the older (the trajectory's first frame
@@ -845,6 +860,7 @@ void RgbdOdometry::tryRejoin(const features::FeatureSet& cur, const PinholeCamer
   T_world_last_ = T * T_world_last_;
   T_world_previous_ = T * T_world_previous_;
   last_tracked_.T_world_camera = T * last_tracked_.T_world_camera;
+  consensus_start_.T_world_camera = T * consensus_start_.T_world_camera;
   for (auto& kf : window_keyframes_) kf.T_world_kf = T * kf.T_world_kf;
   keyframe_policy_.transform(T);
   map_.transform(T);

@@ -95,6 +95,7 @@ class LandmarkMap {
   void clear() { landmarks_.clear(); }
   size_t size() const { return landmarks_.size(); }  ///< including dropped slots
   size_t numAlive() const;
+  size_t numStatic(double stamp) const;  ///< landmarks with static evidence at `stamp`
   const Landmark& operator[](int id) const { return landmarks_[static_cast<size_t>(id)]; }
   /// The landmark lies on a moving object by outside knowledge: suspect for good.
   void markKnownDynamic(int id) { landmarks_[static_cast<size_t>(id)].known_dynamic = true; }

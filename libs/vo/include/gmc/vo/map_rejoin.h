@@ -10,13 +10,19 @@
 // them, the odometry moves its new map into the old frame and takes the frozen
 // landmarks back. Several maps can wait (max_maps): a crowd that loses the camera twice
 // leaves an intermediate map whose frames are revised only if some map finds it; the
-// attempts take the waiting maps in turn. No I/O.
+// attempts take the waiting maps in turn. A map left before it held the room (no static
+// evidence: it followed one frame's clusters among walkers) has little of the room to be
+// found by; its first keyframe, posed before any walker could mislead it, is looked for the
+// other way: its features against the current map's landmarks not seen moving
+// (`young_map_anchor`; generated `crowd` 16: a first map of four frames, lost for thirty,
+// kept the re-anchored map 25 cm off the trajectory's start). No I/O.
 #include <optional>
 #include <vector>
 
 #include "gmc/features/frontend.h"
 #include "gmc/vo/background.h"
 #include "gmc/vo/landmark_map.h"
+#include "gmc/vo/point_correspondences.h"
 #include "gmc/vo/pose_refinement.h"
 
 namespace gmc::vo {
@@ -33,6 +39,7 @@ struct RejoinOptions {
   int ransac_iterations = 1000;   ///< 3-point hypotheses per attempt (few inliers: walkers
                                   ///< and look-alike corners share the matches)
   int max_maps = 3;               ///< maps waiting at once (when full, the second oldest goes)
+  bool young_map_anchor = true;   ///< a map left without static evidence is also looked for by its first keyframe
 
   template <class V>
   void visit(V& v) {
@@ -48,6 +55,10 @@ struct RejoinOptions {
     v("max_maps", max_maps, 1, 100,
       "maps waiting at once, tried in turn; when full, the oldest (the trajectory's frame) stays and the second "
       "oldest makes room (1: the oldest only)");
+    v("young_map_anchor", young_map_anchor,
+      "a map left before it held [Background] min_static_landmarks landmarks with static evidence is also found "
+      "by its first keyframe's features matched against the current map's landmarks not seen moving; its frames "
+      "after that keyframe are then bridged as lost frames");
   }
 };
 
@@ -56,7 +67,14 @@ struct RejoinAttempt {
   int map = -1;     ///< the waiting map tried
   int matches = 0;  ///< descriptor matches with depth against its frozen landmarks
   int inliers = 0;  ///< of which consistent with the best correction
+  bool by_anchor = false;  ///< found by the map's first keyframe (young_map_anchor)
   bool confirmed = false;
+};
+
+/// A waiting map's first keyframe: its features and its pose in that map's world frame.
+struct MapAnchor {
+  features::FeatureSet features;
+  Isometry T_world_camera = Isometry::Identity();
 };
 
 /// A confirmed rejoin: the waiting map found, and T_map_current (the current map's world
@@ -79,16 +97,20 @@ class MapRejoin {
   bool waiting(int map) const;
 
   /// Keeps `landmarks` (world frame of map `map`, left at a re-anchor at `stamp`): at
-  /// most max_landmarks, the most often re-observed. Returns false when not kept
-  /// (disabled, too few landmarks, or max_maps waiting already).
-  bool freeze(int map, std::vector<Landmark> landmarks, double stamp);
+  /// most max_landmarks, the most often re-observed, and the map's `anchor` when it is a
+  /// young one (young_map_anchor). Returns false when not kept (disabled, too few
+  /// landmarks and no anchor, or max_maps waiting already with max_maps 1).
+  bool freeze(int map, std::vector<Landmark> landmarks, double stamp, std::optional<MapAnchor> anchor = std::nullopt);
 
   /// One tracked frame of the current map at T_world_cur (its world frame), tried against
-  /// the next waiting map in turn, or against map `only` when it is one (-1: any).
-  /// Returns the map and correction once confirmed (take its landmarks with release()).
+  /// the next waiting map in turn, or against map `only` when it is one (-1: any); a map
+  /// with an anchor is also tried by it against `current`'s landmarks not seen moving at
+  /// `stamp` (when given); the correction with more inliers counts. Returns the map and correction once confirmed
+  /// (take its landmarks with release()).
   std::optional<RejoinFound> attempt(const features::Frontend& frontend, const features::FeatureSet& cur,
                                      const Isometry& T_world_cur, const PinholeCamera& camera,
-                                     RejoinAttempt* report = nullptr, int only = -1);
+                                     RejoinAttempt* report = nullptr, int only = -1,
+                                     const LandmarkMap* current = nullptr, double stamp = 0);
   /// The ids of the maps waiting, oldest first.
   std::vector<int> waitingMaps() const;
 
@@ -104,11 +126,20 @@ class MapRejoin {
     std::vector<Landmark> frozen;     ///< its world frame
     features::FeatureSet frozen_set;  ///< their descriptors, for matching
     double frozen_at = 0;
+    std::optional<MapAnchor> anchor;    ///< a young map's first keyframe
     std::optional<Isometry> candidate;  ///< its last attempt's correction, awaiting confirmation
   };
   std::optional<Isometry> correction(const features::Frontend& frontend, const WaitingMap& map,
                                      const features::FeatureSet& cur, const Isometry& T_world_cur,
                                      const PinholeCamera& camera, RejoinAttempt& report);
+  /// The correction (map's world <- current world) that poses the map's anchor on the
+  /// current map's landmarks not seen moving.
+  std::optional<Isometry> anchorCorrection(const features::Frontend& frontend, const MapAnchor& anchor,
+                                           const LandmarkMap& current, double stamp, const PinholeCamera& camera,
+                                           RejoinAttempt& report);
+  /// 3-point RANSAC and refinement; the fitted T_cur_ref when min_inliers agree.
+  std::optional<Isometry> fitCorrection(const PointCorrespondences& c, const PinholeCamera& camera,
+                                        RejoinAttempt& report);
 
   RejoinOptions options_;
   RefinementOptions refinement_;

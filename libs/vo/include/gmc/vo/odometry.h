@@ -328,7 +328,7 @@ class RgbdOdometry {
   void keepFirstKeyframeOnly();
   void revertUnheldStart(FrameTracking& out);
   /// The start consensus begins with a new map's first keyframe.
-  void startConsensus(double stamp);
+  void startConsensus(const features::FeatureSet& cur, double stamp);
   void matchToMap(const features::FeatureSet& cur, const Isometry& T_world_pred, const PinholeCamera& camera,
                   double stamp, MapTrack& track) const;
   void addStaticLandmarkMatches(const features::FeatureSet& ref, const features::FeatureSet& cur, double stamp,
@@ -383,6 +383,8 @@ class RgbdOdometry {
   HindsightPoser hindsight_;
   int map_first_keyframe_ = 0;          ///< keyframe_count_ of the current map's first keyframe
   RevisedPose consensus_start_;         ///< and its frame (a taken consensus bridges from it)
+  features::FeatureSet map_anchor_features_;  ///< that frame's features ([Rejoin] young_map_anchor)
+  std::vector<std::pair<long, double>> map_frames_;  ///< the current map's frames after its first (number, stamp)
   std::vector<std::pair<long, double>> start_frames_;  ///< tracked frames since the map's start
                                                        ///< (unheld_start_frames; none once held)
   std::vector<std::uint8_t> known_dynamic_;  ///< per current keypoint: on a known dynamic pixel
