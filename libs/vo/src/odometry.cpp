@@ -413,7 +413,10 @@ void RgbdOdometry::bridgeLostFrames(FrameTracking& out) {
   // map again, the camera went from the last tracked pose to this one (revisions are in
   // order: a later one for the same frame supersedes an earlier one).
   const RevisedPose current{frame_number_, out.stamp, out.T_world_camera};
-  if (frame_number_ != consensus_start_.frame_number) map_frames_.push_back({frame_number_, out.stamp});
+  // A map's frames after its first, to bridge them if it is left young (startNewMap); at
+  // most kMaxYoungMapFrames: memory stays bounded, and a map that old is not treated so.
+  if (frame_number_ != consensus_start_.frame_number && map_frames_.size() <= kMaxYoungMapFrames)
+    map_frames_.push_back({frame_number_, out.stamp});
   // Frames are kept only while some map may still be rejoined.
   if (!rejoin_.active()) records_.clear();
   if (out.state == TrackingState::Lost) {
@@ -798,7 +801,7 @@ void RgbdOdometry::startNewMap(const features::FeatureSet& cur, double stamp) {
   // A map that never held the room (too few landmarks with static evidence) followed one
   // frame's clusters after its first keyframe: that keyframe is what can be found again,
   // and every frame after it is as uncertain as a lost one.
-  const bool young = config_.rejoin.young_map_anchor &&
+  const bool young = config_.rejoin.young_map_anchor && map_frames_.size() <= kMaxYoungMapFrames &&
                      map_.numStatic(stamp) < static_cast<size_t>(config_.background.min_static_landmarks);
   std::optional<MapAnchor> anchor;
   if (young) anchor = MapAnchor{map_anchor_features_, consensus_start_.T_world_camera};

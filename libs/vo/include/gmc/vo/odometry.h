@@ -385,6 +385,9 @@ class RgbdOdometry {
   RevisedPose consensus_start_;         ///< and its frame (a taken consensus bridges from it)
   features::FeatureSet map_anchor_features_;  ///< that frame's features ([Rejoin] young_map_anchor)
   std::vector<std::pair<long, double>> map_frames_;  ///< the current map's frames after its first (number, stamp)
+  /// A map left after more frames than this (30 s at 30 Hz) is not bridged from its first
+  /// keyframe even without static evidence: a stretch that long is no straight path.
+  static constexpr size_t kMaxYoungMapFrames = 900;
   std::vector<std::pair<long, double>> start_frames_;  ///< tracked frames since the map's start
                                                        ///< (unheld_start_frames; none once held)
   std::vector<std::uint8_t> known_dynamic_;  ///< per current keypoint: on a known dynamic pixel
