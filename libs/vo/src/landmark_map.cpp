@@ -83,10 +83,16 @@ size_t LandmarkMap::numStatic(double stamp) const {
   return n;
 }
 
+std::vector<const Landmark*> LandmarkMap::notSeenMoving(double stamp) const {
+  std::vector<const Landmark*> out;
+  for (size_t i = 0; i < landmarks_.size(); ++i)
+    if (evidence(static_cast<int>(i), stamp) != Evidence::Suspect) out.push_back(&landmarks_[i]);
+  return out;
+}
+
 std::vector<Landmark> LandmarkMap::landmarksNotSeenMoving(double stamp) const {
   std::vector<Landmark> out;
-  for (size_t i = 0; i < landmarks_.size(); ++i)
-    if (evidence(static_cast<int>(i), stamp) != Evidence::Suspect) out.push_back(landmarks_[i]);
+  for (const Landmark* l : notSeenMoving(stamp)) out.push_back(*l);
   return out;
 }
 

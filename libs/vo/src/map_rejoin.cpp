@@ -27,6 +27,14 @@ features::FeatureSet descriptorSet(const std::vector<const Landmark*>& landmarks
   return set;
 }
 
+/// The most often re-observed first (the furniture that held the pose longest), at most
+/// `max` of them; `hits` reads an element's count.
+template <class T, class Hits>
+void keepMostReobserved(std::vector<T>& landmarks, int max, Hits hits) {
+  std::stable_sort(landmarks.begin(), landmarks.end(), [&](const T& a, const T& b) { return hits(a) > hits(b); });
+  if (landmarks.size() > static_cast<size_t>(max)) landmarks.resize(static_cast<size_t>(max));
+}
+
 }  // namespace
 
 bool MapRejoin::freeze(int map, std::vector<Landmark> landmarks, double stamp, std::optional<MapAnchor> anchor) {
@@ -38,11 +46,7 @@ bool MapRejoin::freeze(int map, std::vector<Landmark> landmarks, double stamp, s
     if (options_.max_maps < 2) return false;
     waiting_.erase(waiting_.begin() + 1);
   }
-  // The most often re-observed first: they are the furniture that held the pose longest.
-  std::stable_sort(landmarks.begin(), landmarks.end(),
-                   [](const Landmark& a, const Landmark& b) { return a.hits_in_place > b.hits_in_place; });
-  if (landmarks.size() > static_cast<size_t>(options_.max_landmarks))
-    landmarks.resize(static_cast<size_t>(options_.max_landmarks));
+  keepMostReobserved(landmarks, options_.max_landmarks, [](const Landmark& l) { return l.hits_in_place; });
   WaitingMap w;
   w.id = map;
   w.frozen = std::move(landmarks);
@@ -144,14 +148,10 @@ std::optional<Isometry> MapRejoin::anchorCorrection(const features::Frontend& fr
   // The current map's landmarks not seen moving (as the map left froze its own), the most
   // often re-observed first. Those with static evidence alone were measured too: they
   // find crowd 16's anchor 100-150 frames later and nothing more (fifty-fourth round).
-  std::vector<const Landmark*> room;
-  for (size_t id = 0; id < current.size(); ++id)
-    if (current.evidence(static_cast<int>(id), stamp) != Evidence::Suspect) room.push_back(&current[static_cast<int>(id)]);
+  std::vector<const Landmark*> room = current.notSeenMoving(stamp);
   r.matches = 0;
   if (room.size() < static_cast<size_t>(options_.min_inliers)) return std::nullopt;
-  std::stable_sort(room.begin(), room.end(),
-                   [](const Landmark* a, const Landmark* b) { return a->hits_in_place > b->hits_in_place; });
-  if (room.size() > static_cast<size_t>(options_.max_landmarks)) room.resize(static_cast<size_t>(options_.max_landmarks));
+  keepMostReobserved(room, options_.max_landmarks, [](const Landmark* l) { return l->hits_in_place; });
   // 3-D correspondences: landmark (current world) <- anchor keypoint (its camera frame).
   PointCorrespondences c;
   for (const auto& m : frontend.matchExhaustive(descriptorSet(room), anchor.features))

@@ -129,6 +129,8 @@ class LandmarkMap {
 
   /// The live landmarks not suspect at `stamp`, young or static (kept when a map is left).
   std::vector<Landmark> landmarksNotSeenMoving(double stamp) const;
+  /// The same, in place (valid until the map changes).
+  std::vector<const Landmark*> notSeenMoving(double stamp) const;
   /// Moves every landmark into another world frame: p <- T_new_old * p.
   void transform(const Isometry& T_new_old);
   /// Appends landmarks as they are (positions in this map's frame, evidence kept).
