@@ -324,6 +324,12 @@ SkipUnheldResult synchronousWithAndWithoutUnheld() {
   gmc::vo::OdometryConfig with_config, without_config;
   with_config.odometry.random_seed = without_config.odometry.random_seed = 2;
   without_config.window.skip_unheld = false;
+  // The start consensus as it was before the fifty-fifth round, which leaves this stream
+  // on the group for its first 15 frames (today's finds the room by frame 10).
+  for (auto* c : {&with_config, &without_config}) {
+    c->start_consensus.refit_samples = c->start_consensus.refit_rounds = 1;
+    c->start_consensus.sample_mean_step = false;
+  }
   gmc::vo::RgbdOdometry with(with_config), without(without_config);
   std::map<long, gmc::datasets::StampedPose> written[2];
   std::vector<gmc::datasets::StampedPose> live[2], truth[2], live_truth[2];

@@ -260,6 +260,72 @@ TEST(StartConsensus, PixelInliersSeeAPoseTheDepthNoiseHides) {
   EXPECT_TRUE(judge_gain.clearlyBetter(by_pixels));
 }
 
+// A group walking in step with a camera that walks 3 cm per frame (generated
+// `synchronous`): the given poses stand still with the group. The room is 3-6 m away,
+// where depth is noisy along the ray (sigma 0.0012 z^2, 1-4 cm). Posed on three of its
+// points, a frame is centimetres and degrees off, so step by step a room sample looks
+// like no camera (max_step, max_turn) and only the group's samples survive; judged by
+// their mean step over the frames (sample_mean_step), the room's samples survive, and
+// settled on their members (refit_samples, refit_rounds) the room explains the frames
+// clearly better than the group. Five scenes drawn alike.
+ConsensusResult judgeRoomAndGroupInStep(unsigned scene, const StartConsensusOptions& options, int room,
+                                        bool& room_only) {
+  std::mt19937 rng(scene);
+  std::uniform_real_distribution<double> x(-2.5, 2.5), y(-1.5, 1.5), far(3.0, 6.0), near(1.5, 2.5);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  const int group = 50;
+  std::vector<std::pair<int, Eigen::Vector3d>> anchors;
+  for (int i = 0; i < room; ++i) anchors.emplace_back(i, Eigen::Vector3d(x(rng), y(rng), far(rng)));
+  for (int i = 0; i < group; ++i) anchors.emplace_back(room + i, Eigen::Vector3d(0.4 * x(rng), 0.4 * y(rng), near(rng)));
+  StartConsensus consensus(options);
+  consensus.start(anchors);
+  for (int f = 1; f <= 12; ++f) {
+    ConsensusFrame frame;
+    frame.frame_number = f + 1;
+    frame.stamp = f / 30.0;
+    frame.T_world_given = Isometry::Identity();  // standing still with the group
+    const Isometry camera = translation(Eigen::Vector3d(0.03 * f, 0, 0));
+    for (const auto& [id, world] : anchors) {
+      // The group keeps its place in the camera's frame; the room stays in the world.
+      Eigen::Vector3d p = id < room ? Eigen::Vector3d(camera.inverse() * world) : world;
+      p *= 1.0 + 0.0012 * p.z() * unit(rng);  // sigma 0.0012 z^2 along the ray: the pixel stays
+      frame.observations.emplace_back(id, p);
+    }
+    consensus.add(frame);
+  }
+  ConsensusResult r = consensus.solve(InPlaceThreshold{});
+  room_only = r.found && !r.consensus.empty();
+  for (const auto& [id, position] : r.consensus) room_only = room_only && id < room;
+  if (!consensus.clearlyBetter(r)) r.found = false;  // found here means taken
+  return r;
+}
+
+TEST(StartConsensus, AFarNoisyRoomJudgedByItsMeanStepAndSettledOutscoresAGroupInStep) {
+  const int room = 80;
+  StartConsensusOptions before;  // step by step, the best sample only, one membership
+  before.sample_mean_step = false;
+  before.refit_samples = 1;
+  before.refit_rounds = 1;
+  const StartConsensusOptions settled;  // the defaults
+  ASSERT_TRUE(settled.sample_mean_step);
+  int taken_before = 0, taken_settled = 0;
+  for (unsigned scene : {1u, 2u, 3u, 4u, 11u}) {
+    bool room_only = false;
+    taken_before += judgeRoomAndGroupInStep(scene, before, room, room_only).found && room_only;
+    const ConsensusResult r = judgeRoomAndGroupInStep(scene, settled, room, room_only);
+    EXPECT_TRUE(r.found) << "scene " << scene << ": " << r.score << " against " << r.given_score;
+    EXPECT_TRUE(room_only) << "scene " << scene;
+    EXPECT_GE(static_cast<int>(r.consensus.size()), room * 9 / 10) << "scene " << scene;
+    for (size_t f = 0; f < r.T_world_camera.size(); ++f)
+      EXPECT_LT((r.T_world_camera[f].translation() - Eigen::Vector3d(0.03 * static_cast<double>(f + 1), 0, 0)).norm(),
+                0.03)
+          << "scene " << scene << " frame " << f + 1;  // fitted to points 1-4 cm noisy in depth
+    taken_settled += r.found && room_only;
+  }
+  EXPECT_EQ(taken_before, 0) << "step by step the room's samples look like no camera";
+  EXPECT_EQ(taken_settled, 5);
+}
+
 // A cull renumbers landmarks: the consensus reports the new ids, and dropped ones never.
 TEST(StartConsensus, FollowsRenumberedLandmarks) {
   const YoungMap map = crowdedStart(20, 0, {}, 0);

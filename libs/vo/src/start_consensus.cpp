@@ -115,10 +115,10 @@ bool fitSample(const std::array<int, 3>& sample, const std::vector<int>& slot, c
 
 }  // namespace
 
-bool StartConsensus::plausibleStep(const Isometry& a, const Isometry& b) const {
+bool StartConsensus::plausibleStep(const Isometry& a, const Isometry& b, int frames) const {
   const Isometry step = a.inverse() * b;
-  return step.translation().norm() <= options_.max_step &&
-         Eigen::AngleAxisd(step.linear()).angle() * 180.0 / M_PI <= options_.max_turn;
+  return step.translation().norm() <= options_.max_step * frames &&
+         Eigen::AngleAxisd(step.linear()).angle() * 180.0 / M_PI <= options_.max_turn * frames;
 }
 
 bool StartConsensus::clearlyBetter(const ConsensusResult& result) const {
@@ -160,22 +160,26 @@ ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold, const P
     if (anchor_id_[a] >= 0 && 2 * seen_in[a] >= static_cast<int>(n)) pool.push_back(static_cast<int>(a));
   if (pool.size() < 3) return result;
 
-  // A sample stops being scored once the observations left cannot lift it above the best.
+  // A sample stops being scored once the observations left cannot lift it above the
+  // K-th best (K = refit_samples: the best samples are settled on their members below).
   std::vector<int> left(n + 1, 0);
   for (size_t f = n; f-- > 0;) left[f] = left[f + 1] + static_cast<int>(frames_[f].observations.size());
-  int best_score = -1;
-  std::vector<int> best_sample;
+  const size_t keep = static_cast<size_t>(std::max(1, options_.refit_samples));
+  std::vector<std::pair<int, std::array<int, 3>>> best;  // (score, sample), best first
   for (int it = 0; it < options_.iterations; ++it) {
     std::array<int, 3> sample;
     for (int& a : sample) a = pool[rng_.next() % pool.size()];
     if (sample[0] == sample[1] || sample[0] == sample[2] || sample[1] == sample[2]) continue;
     const auto& w = anchor_world_;
     if ((w[sample[1]] - w[sample[0]]).cross(w[sample[2]] - w[sample[0]]).norm() < 1e-3) continue;
+    const int bar = best.size() < keep ? -1 : best.back().first;
     int score = 0;
     Isometry before = Isometry::Identity();  // the previous frame's pose, when it had one
     bool chained = false;
+    Isometry first_pose = Isometry::Identity();
+    int first_frame = -1, last_frame = -1;
     for (size_t f = 0; f < n && score >= 0; ++f) {
-      if (score + left[f] <= best_score) {
+      if (score + left[f] <= bar) {
         score = -1;
         break;
       }
@@ -184,36 +188,67 @@ ConsensusResult StartConsensus::solve(const InPlaceThreshold& threshold, const P
         chained = false;
         continue;
       }
-      if (chained && !plausibleStep(before, T)) score = -1;
+      if (!options_.sample_mean_step && chained && !plausibleStep(before, T)) score = -1;
       else score += countInliers(f, T, threshold, pixels, nullptr);
+      if (first_frame < 0) first_pose = T, first_frame = static_cast<int>(f);
+      last_frame = static_cast<int>(f);
       before = T;
       chained = true;
     }
-    if (score > best_score) best_score = score, best_sample.assign(sample.begin(), sample.end());
+    // Three far points pose a frame centimetres and degrees off; their mean step over
+    // the frames is what tells a camera from a group that walks faster than one.
+    if (options_.sample_mean_step && last_frame > first_frame &&
+        !plausibleStep(first_pose, before, last_frame - first_frame))
+      score = -1;
+    if (score <= bar) continue;
+    auto at = std::find_if(best.begin(), best.end(), [&](const auto& b) { return score > b.first; });
+    best.insert(at, {score, sample});
+    if (best.size() > keep) best.pop_back();
   }
-  if (best_sample.empty()) return result;
+  for (const auto& [score, sample] : best) {
+    ConsensusResult settled = settle(std::vector<int>(sample.begin(), sample.end()), threshold, camera);
+    settled.given_score = result.given_score;
+    if (settled.found && (!result.found || settled.score > result.score)) result = std::move(settled);
+  }
+  return result;
+}
 
-  // Membership from the sample's poses, then every frame refitted on the members it saw.
+ConsensusResult StartConsensus::settle(std::vector<int> seed, const InPlaceThreshold& threshold,
+                                       const PinholeCamera* camera) const {
+  const PinholeCamera* pixels = options_.inlier_pixels > 0 ? camera : nullptr;
+  ConsensusResult result;
+  const size_t n = frames_.size();
+  // Membership from the seed's poses, then every frame refitted on the members it saw;
+  // with refit_rounds > 1 the membership is judged again from the refitted poses.
   std::vector<Isometry> pose(n, Isometry::Identity());
   std::vector<std::uint8_t> posed(n, 0);
-  std::vector<int> inlier_in(anchor_id_.size(), 0), observed_in(anchor_id_.size(), 0);
-  for (size_t f = 0; f < n; ++f) {
-    if (!fitFrame(best_sample, slot_[f], frames_[f], anchor_world_, 3, pose[f])) continue;
-    posed[f] = 1;
-    std::vector<int> in;
-    countInliers(f, pose[f], threshold, pixels, &in);
-    for (int a : in) ++inlier_in[static_cast<size_t>(a)];
-    for (const auto& ob : frames_[f].observations) ++observed_in[static_cast<size_t>(ob.first)];
-  }
+  size_t min_points = 3;
   std::vector<int> members;
-  for (size_t a = 0; a < anchor_id_.size(); ++a) {
-    if (anchor_id_[a] < 0 || observed_in[a] == 0) continue;
-    if (inlier_in[a] > 0 && inlier_in[a] >= options_.min_share * observed_in[a]) {
-      members.push_back(static_cast<int>(a));
-      result.consensus.emplace_back(anchor_id_[a], anchor_world_[a]);
-    } else if (observed_in[a] >= 2) {
-      result.outside.push_back(anchor_id_[a]);
+  for (int round = 0; round < std::max(1, options_.refit_rounds); ++round) {
+    // A frame that sees too few members to be refitted keeps its last round's pose.
+    std::vector<int> inlier_in(anchor_id_.size(), 0), observed_in(anchor_id_.size(), 0);
+    for (size_t f = 0; f < n; ++f) {
+      if (!fitFrame(seed, slot_[f], frames_[f], anchor_world_, min_points, pose[f])) continue;
+      posed[f] = 1;
+      std::vector<int> in;
+      countInliers(f, pose[f], threshold, pixels, &in);
+      for (int a : in) ++inlier_in[static_cast<size_t>(a)];
+      for (const auto& ob : frames_[f].observations) ++observed_in[static_cast<size_t>(ob.first)];
     }
+    members.clear();
+    result.consensus.clear();
+    result.outside.clear();
+    for (size_t a = 0; a < anchor_id_.size(); ++a) {
+      if (anchor_id_[a] < 0 || observed_in[a] == 0) continue;
+      if (inlier_in[a] > 0 && inlier_in[a] >= options_.min_share * observed_in[a]) {
+        members.push_back(static_cast<int>(a));
+        result.consensus.emplace_back(anchor_id_[a], anchor_world_[a]);
+      } else if (observed_in[a] >= 2) {
+        result.outside.push_back(anchor_id_[a]);
+      }
+    }
+    seed = members;
+    min_points = 6;
   }
   result.score = 0;
   for (size_t f = 0; f < n; ++f) {

@@ -36,6 +36,9 @@ struct StartConsensusOptions {
   double inlier_pixels = 0;  ///< px: an inlier also reprojects within this (0: 3-D test only)
   double min_share = 0.5;   ///< a landmark is in the consensus when an inlier in this share
                             ///< of the frames that observed it
+  int refit_samples = 5;    ///< the best samples settled on their members; the best settled set wins
+  int refit_rounds = 2;     ///< membership judged this many times, each from the poses refitted on the last
+  bool sample_mean_step = true;  ///< a sample's poses judged by their mean step over the frames, not step by step
 
   template <class V>
   void visit(V& v) {
@@ -58,6 +61,13 @@ struct StartConsensusOptions {
       "as well as within the 3-D threshold along the ray (0 = the 3-D threshold alone)");
     v("min_share", min_share, 0.0, 1.0,
       "a landmark belongs to the consensus when it is an inlier in this share of the frames that saw it");
+    v("refit_samples", refit_samples, 1, 1000,
+      "the best samples settled on their members (membership, refit); the best settled set wins");
+    v("refit_rounds", refit_rounds, 1, 10,
+      "membership judged this many times, each from the poses refitted on the last round's members");
+    v("sample_mean_step", sample_mean_step,
+      "judge a sample's poses by their mean step over the frames (max_step, max_turn), not step by step: three "
+      "far points pose a frame centimetres and degrees off");
   }
 };
 
@@ -114,7 +124,10 @@ class StartConsensus {
   int countInliers(size_t f, const Isometry& T, const InPlaceThreshold& threshold, const PinholeCamera* pixels,
                    std::vector<int>* in) const;
 
-  bool plausibleStep(const Isometry& a, const Isometry& b) const;
+  /// b within `frames` camera steps (max_step, max_turn each) of a.
+  bool plausibleStep(const Isometry& a, const Isometry& b, int frames = 1) const;
+  /// Membership and per-frame poses of the set grown from `seed` (anchor indices).
+  ConsensusResult settle(std::vector<int> seed, const InPlaceThreshold& threshold, const PinholeCamera* camera) const;
   /// T (world <- camera of frame f) refined on the pixels and depths of `anchors` there.
   void polishPose(size_t f, const std::vector<int>& anchors, const PinholeCamera& camera, Isometry& T) const;
 
