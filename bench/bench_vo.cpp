@@ -57,7 +57,9 @@ void BM_BackgroundSelect(benchmark::State& state) {
     trust.established.push_back(room && i % 3 == 0 ? 1 : 0);
     trust.known_dynamic.push_back(0);
   }
-  gmc::vo::BackgroundSelector selector(gmc::vo::BackgroundOptions{}, gmc::GmcParams{});
+  gmc::vo::BackgroundOptions options;
+  if (state.range(1) > 0) options.ransac_iterations = static_cast<int>(state.range(1));
+  gmc::vo::BackgroundSelector selector(options, gmc::GmcParams{});
   gmc::vo::SelectionContext context;
   gmc::vo::BackgroundChoice choice;
   for (auto _ : state) {
@@ -65,6 +67,12 @@ void BM_BackgroundSelect(benchmark::State& state) {
     benchmark::DoNotOptimize(choice.score);
   }
 }
-BENCHMARK(BM_BackgroundSelect)->Arg(300)->Arg(600)->Arg(1200)->Unit(benchmark::kMillisecond);
+// Second argument: RANSAC samples per pool (0 = the default).
+BENCHMARK(BM_BackgroundSelect)
+    ->Args({300, 0})
+    ->Args({600, 0})
+    ->Args({1200, 0})
+    ->Args({600, 1000})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -193,7 +193,7 @@ TEST(RansacRigid, LocalOptimisationRefitsTheBestSampleOnItsInliers) {
     Xorshift64 rng(11);
     return gmc::vo::ransacRigid(
         pool, 30, rng, [&](int i) { return src[static_cast<size_t>(i)]; },
-        [&](int i) { return dst[static_cast<size_t>(i)]; }, [&](const Isometry& T) { return inliers(T, nullptr, nullptr); },
+        [&](int i) { return dst[static_cast<size_t>(i)]; }, [&](const Isometry& T, double) { return inliers(T, nullptr, nullptr); },
         Isometry::Identity(), lo ? std::function<Isometry(const Isometry&)>(refit) : std::function<Isometry(const Isometry&)>{});
   };
   const Isometry plain = run(false), local = run(true);
@@ -201,6 +201,32 @@ TEST(RansacRigid, LocalOptimisationRefitsTheBestSampleOnItsInliers) {
   EXPECT_GE(inliers(local, nullptr, nullptr), inliers(plain, nullptr, nullptr));
   EXPECT_LT(error(local), 0.004);
   EXPECT_LT(error(local), error(plain));
+}
+
+/// The score may stop counting below the bar it is given (BackgroundSelector's support
+/// does): the bar must be the best score so far, so that a stopped count never wins.
+TEST(RansacRigid, GivesTheScoreTheBestSoFarAsItsBar) {
+  std::vector<Eigen::Vector3d> src;
+  for (int i = 0; i < 30; ++i) src.emplace_back(0.1 * i, std::sin(0.7 * i), 2.0 + std::cos(0.3 * i));
+  std::vector<int> pool(30);
+  for (int i = 0; i < 30; ++i) pool[static_cast<size_t>(i)] = i;
+  Xorshift64 rng(3), score_rng(5);
+  double best = -1;
+  int scored = 0, wrong_bars = 0;
+  const Isometry chosen = gmc::vo::ransacRigid(
+      pool, 50, rng, [&](int i) { return src[static_cast<size_t>(i)]; },
+      [&](int i) { return src[static_cast<size_t>(i)]; },
+      [&](const Isometry&, double bar) {
+        wrong_bars += bar != best;
+        const double s = static_cast<double>(score_rng.next() % 1000);
+        best = std::max(best, s);
+        ++scored;
+        return s;
+      },
+      Isometry::Identity());
+  EXPECT_GT(scored, 20);
+  EXPECT_EQ(wrong_bars, 0);
+  EXPECT_TRUE(chosen.isApprox(Isometry::Identity(), 1e-9)) << "every sample of an identity motion fits the identity";
 }
 
 TEST(Xorshift64, ARunSeedGivesOtherStreamsAndZeroTheBuiltInOne) {

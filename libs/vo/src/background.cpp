@@ -55,7 +55,7 @@ std::uint64_t Xorshift64::seedFor(std::uint64_t built_in, std::uint64_t run_seed
 
 Isometry ransacRigid(const std::vector<int>& pool, int iterations, Xorshift64& rng,
                      const std::function<Eigen::Vector3d(int)>& src, const std::function<Eigen::Vector3d(int)>& dst,
-                     const std::function<double(const Isometry&)>& score, const Isometry& fallback,
+                     const RigidScore& score, const Isometry& fallback,
                      const std::function<Isometry(const Isometry&)>& refine) {
   Isometry best_T = fallback;
   double best = -1;
@@ -69,14 +69,14 @@ Isometry ransacRigid(const std::vector<int>& pool, int iterations, Xorshift64& r
     if ((a.col(1) - a.col(0)).cross(a.col(2) - a.col(0)).norm() < 1e-3) continue;
     Isometry T;
     if (!fitRigid(a, b, T)) continue;
-    const double s = score(T);
+    const double s = score(T, best);
     if (s <= best) continue;
     best = s, best_T = T;
     if (!refine) continue;
     // Local optimisation (Chum et al. 2003): a new best is refitted on its inliers, so
     // the winner is the optimum of its basin, not whichever noisy sample hit it first.
     const Isometry refined = refine(T);
-    const double r = score(refined);
+    const double r = score(refined, best);
     if (r >= best) best = r, best_T = refined;  // a tie goes to the least-squares fit
   }
   return best_T;
@@ -107,6 +107,7 @@ void BackgroundSelector::gatherWeighted(const std::vector<MotionMatch>& matches,
   weighted_.ref.resize(3, n);
   weighted_.threshold_sq.resize(weighted.size());
   weighted_.weight.resize(weighted.size());
+  weighted_.rest.resize(weighted.size() + 1);
   for (size_t k = 0; k < weighted.size(); ++k) {
     const auto i = static_cast<size_t>(weighted[k]);
     const double thr = threshold.at(matches[i].point_cur.z());
@@ -115,15 +116,26 @@ void BackgroundSelector::gatherWeighted(const std::vector<MotionMatch>& matches,
     weighted_.threshold_sq[k] = thr * thr;
     weighted_.weight[k] = weight[i];
   }
+  weighted_.rest.back() = 0;
+  for (size_t k = weighted.size(); k-- > 0;) weighted_.rest[k] = weighted_.rest[k + 1] + weighted_.weight[k];
 }
 
-double BackgroundSelector::support(const Isometry& T_ref_cur) const {
+double BackgroundSelector::support(const Isometry& T_ref_cur, double bar) const {
   const Eigen::Matrix3d R = T_ref_cur.linear();
   const Eigen::Vector3d t = T_ref_cur.translation();
+  // Most samples are hopeless: counted in blocks, a sample stops once the weight left
+  // cannot lift it to the bar (with a margin for the sums' rounding, so that the best
+  // sample and ties come out as a full count would give them).
+  constexpr Eigen::Index kBlock = 32;
+  const Eigen::Index n = weighted_.cur.cols();
+  const double margin = 1e-9 * (1.0 + std::abs(bar));
   double s = 0;
-  for (Eigen::Index k = 0; k < weighted_.cur.cols(); ++k) {
-    const Eigen::Vector3d d = weighted_.ref.col(k) - (R * weighted_.cur.col(k) + t);
-    if (d.squaredNorm() < weighted_.threshold_sq[static_cast<size_t>(k)]) s += weighted_.weight[static_cast<size_t>(k)];
+  for (Eigen::Index k0 = 0; k0 < n; k0 += kBlock) {
+    if (s + weighted_.rest[static_cast<size_t>(k0)] < bar - margin) return s;
+    for (Eigen::Index k = k0; k < std::min(n, k0 + kBlock); ++k) {
+      const Eigen::Vector3d d = weighted_.ref.col(k) - (R * weighted_.cur.col(k) + t);
+      if (d.squaredNorm() < weighted_.threshold_sq[static_cast<size_t>(k)]) s += weighted_.weight[static_cast<size_t>(k)];
+    }
   }
   return s;
 }
@@ -133,7 +145,7 @@ Isometry BackgroundSelector::ransac(const std::vector<MotionMatch>& matches, con
   return ransacRigid(
       pool, options_.ransac_iterations, rng_, [&](int i) { return matches[static_cast<size_t>(i)].point_cur; },
       [&](int i) { return matches[static_cast<size_t>(i)].point_ref; },
-      [&](const Isometry& T) { return support(T); }, fallback,
+      [&](const Isometry& T, double bar) { return support(T, bar); }, fallback,
       options_.ransac_local_optimisation ? [&](const Isometry& T) { return polish(matches, weight, T); }
                                          : std::function<Isometry(const Isometry&)>{});
 }
@@ -143,17 +155,19 @@ Isometry BackgroundSelector::polish(const std::vector<MotionMatch>& matches, con
   // Least squares on the hypothesis' inliers under the tight threshold: GMC measures
   // residuals against it, and a centimetre of error would shift the whole background
   // off the zero-motion pattern.
+  std::vector<int> last;
   for (int round = 0; round < 3; ++round) {
     std::vector<int> in;
     for (size_t i = 0; i < matches.size(); ++i)
       if (weight[i] > 0 && inlier(matches[i], T)) in.push_back(static_cast<int>(i));
-    if (in.size() < 6) break;
+    if (in.size() < 6 || in == last) break;  // the same inliers give the same fit
     Eigen::Matrix3Xd src(3, in.size()), dst(3, in.size());
     for (size_t k = 0; k < in.size(); ++k) {
       src.col(static_cast<Eigen::Index>(k)) = matches[static_cast<size_t>(in[k])].point_cur;
       dst.col(static_cast<Eigen::Index>(k)) = matches[static_cast<size_t>(in[k])].point_ref;
     }
     fitRigid(src, dst, T);
+    last = std::move(in);
   }
   return T;
 }

@@ -38,7 +38,7 @@ CorrespondenceFit fitCorrespondences(const PointCorrespondences& c, const std::v
   const Isometry sampled = ransacRigid(
       pool, iterations, rng, [&](int i) { return c.camera[static_cast<size_t>(i)]; },
       [&](int i) { return c.reference[static_cast<size_t>(i)]; },
-      [&](const Isometry& T) { return static_cast<double>(c.inPlace(T, pool, threshold).size()); }, fallback);
+      [&](const Isometry& T, double) { return static_cast<double>(c.inPlace(T, pool, threshold).size()); }, fallback);
   CorrespondenceFit fit;
   fit.members = c.inPlace(sampled, pool, threshold);
   std::vector<PointObservation> obs;

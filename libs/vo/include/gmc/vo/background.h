@@ -98,10 +98,12 @@ class Xorshift64 {
 /// collinear, which gives unstable rotations), each fitted by fitRigid and scored by
 /// `score`. The first best-scoring T, or `fallback` when no sample was usable (or the
 /// pool has fewer than three). With `refine`, each new best is also refined and the
-/// refined T scored (LO-RANSAC).
+/// refined T scored (LO-RANSAC). `score(T, bar)` may stop counting once T's score is sure
+/// to stay below `bar` (the best so far) and return anything below it.
+using RigidScore = std::function<double(const Isometry&, double bar)>;
 Isometry ransacRigid(const std::vector<int>& pool, int iterations, Xorshift64& rng,
                      const std::function<Eigen::Vector3d(int)>& src, const std::function<Eigen::Vector3d(int)>& dst,
-                     const std::function<double(const Isometry&)>& score, const Isometry& fallback,
+                     const RigidScore& score, const Isometry& fallback,
                      const std::function<Isometry(const Isometry&)>& refine = {});
 
 /// Per match: how far its landmark is trusted (0 suspect .. 1 static evidence), whether
@@ -155,12 +157,14 @@ class BackgroundSelector {
     Eigen::Matrix3Xd cur, ref;
     std::vector<double> threshold_sq;  ///< squared 3-D inlier threshold at the match's depth
     std::vector<double> weight;
+    std::vector<double> rest;  ///< weight from this match to the last: what a score can still gain
   };
   /// Packs matches[weighted] (the matches with weight > 0) into weighted_.
   void gatherWeighted(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
                       const std::vector<int>& weighted);
-  /// Weighted number of matches within the 3-D inlier threshold under T_ref_cur.
-  double support(const Isometry& T_ref_cur) const;
+  /// Weighted number of matches within the 3-D inlier threshold under T_ref_cur; stops
+  /// counting (and returns less than `bar`) once it cannot reach `bar`.
+  double support(const Isometry& T_ref_cur, double bar = -1) const;
   /// Samples from `pool`, scored on weighted_ (gatherWeighted first); with LO-RANSAC each
   /// new best is polished on the weighted matches, the set support() counts.
   Isometry ransac(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
