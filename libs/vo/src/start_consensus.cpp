@@ -129,6 +129,15 @@ bool StartConsensus::clearlyBetter(const ConsensusResult& result) const {
   return options_.min_significance > 0 && score - given >= options_.min_significance * std::sqrt(score + given);
 }
 
+bool StartConsensus::mayReplace(const ConsensusResult& result, int min_inliers) const {
+  if (!result.found || static_cast<int>(result.inliers_latest.size()) < min_inliers) return false;
+  // The consensus corrects poses that a rigid body held, possibly the wrong one. Over lost
+  // frames (the room too little seen to hold a pose) it has nothing to beat, and a walker
+  // rigid over a few frames wins (doc/odometry.md, fifty-sixth round: off by default).
+  return !options_.only_over_held_poses ||
+         result.given_score >= static_cast<double>(min_inliers) * static_cast<double>(frames_.size());
+}
+
 void StartConsensus::polishPose(size_t f, const std::vector<int>& anchors, const PinholeCamera& camera,
                                 Isometry& T) const {
   // The points were back-projected from their pixels: projecting them gives the pixels back.

@@ -39,6 +39,8 @@ struct StartConsensusOptions {
   int refit_samples = 5;    ///< the best samples settled on their members; the best settled set wins
   int refit_rounds = 2;     ///< membership judged this many times, each from the poses refitted on the last
   bool sample_mean_step = true;  ///< a sample's poses judged by their mean step over the frames, not step by step
+  bool only_over_held_poses = false;  ///< taken only over given poses that held their frames (on average
+                                      ///< [Odometry] min_static_inliers a frame), not over lost frames
 
   template <class V>
   void visit(V& v) {
@@ -68,6 +70,9 @@ struct StartConsensusOptions {
     v("sample_mean_step", sample_mean_step,
       "judge a sample's poses by their mean step over the frames (max_step, max_turn), not step by step: three "
       "far points pose a frame centimetres and degrees off");
+    v("only_over_held_poses", only_over_held_poses,
+      "take a consensus only over given poses that held their frames (on average [Odometry] min_static_inliers "
+      "inliers a frame): over lost frames it has nothing to beat, and a walker rigid over a few frames wins");
   }
 };
 
@@ -113,6 +118,9 @@ class StartConsensus {
   ConsensusResult solve(const InPlaceThreshold& threshold, const PinholeCamera* camera = nullptr);
   /// The consensus explains the kept frames clearly better than the poses given out.
   bool clearlyBetter(const ConsensusResult& result) const;
+  /// The consensus may replace the given poses: its newest pose holds `min_inliers` (as a
+  /// tracked pose must) and, with only_over_held_poses, the given poses held as many a frame.
+  bool mayReplace(const ConsensusResult& result, int min_inliers) const;
   /// The kept frames' poses were revised (to a consensus taken): they are the given ones now.
   void revise(const std::vector<Isometry>& T_world_camera);
   /// Landmark ids renumbered by a cull (-1 = dropped).
