@@ -325,8 +325,8 @@ void RgbdOdometry::judgeStart(double stamp, const PinholeCamera& camera, FrameTr
     frame.observations.emplace_back(track_.landmark[k], track_.motion[k].point_cur);
   consensus_.add(frame);
   const ConsensusResult consensus = consensus_.solve(config_.background.inPlace(), &camera);
-  if (!consensus_.clearlyBetter(consensus) || !consensus_.mayReplace(consensus, config_.odometry.min_static_inliers)) return;
-  adoptConsensus(consensus, stamp, out);
+  if (consensus_.clearlyBetter(consensus) && consensus_.mayReplace(consensus, config_.odometry.min_static_inliers))
+    adoptConsensus(consensus, stamp, out);
 }
 
 void RgbdOdometry::adoptConsensus(const ConsensusResult& consensus, double stamp, FrameTracking& out) {

@@ -164,7 +164,7 @@ class BackgroundSelector {
                       const std::vector<int>& weighted);
   /// Weighted number of matches within the 3-D inlier threshold under T_ref_cur; stops
   /// counting (and returns less than `bar`) once it cannot reach `bar`.
-  double support(const Isometry& T_ref_cur, double bar = -1) const;
+  double support(const Isometry& T_ref_cur, double bar) const;
   /// Samples from `pool`, scored on weighted_ (gatherWeighted first); with LO-RANSAC each
   /// new best is polished on the weighted matches, the set support() counts.
   Isometry ransac(const std::vector<MotionMatch>& matches, const std::vector<double>& weight,
